@@ -1,0 +1,52 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentEnums_h
+#define itkSmallIsoComponentEnums_h
+
+#include "itkIntTypes.h"
+#include "SmallIsoComponentExport.h"
+#include <ostream>
+
+namespace itk
+{
+/** \class SmallIsoComponentEnums
+ * \brief Enums used by SmallIsoComponentImageFilter.
+ * \ingroup SmallIsoComponent
+ */
+class SmallIsoComponentEnums
+{
+public:
+  /** \ingroup SmallIsoComponent
+   * Which side of the isovalue loses its small components.
+   * Above: small components of {f >= IsoValue} (specks outside an object).
+   * Below: small components of {f < IsoValue} (bubbles inside an object).
+   * Both: Above, then Below on the result of the first pass. */
+  enum class Side : uint8_t
+  {
+    Above = 0,
+    Below = 1,
+    Both = 2
+  };
+};
+
+/** Prints the enumerator's qualified name, e.g. "itk::SmallIsoComponentEnums::Side::Both". */
+extern SmallIsoComponent_EXPORT std::ostream &
+                                operator<<(std::ostream & out, const SmallIsoComponentEnums::Side value);
+} // end namespace itk
+
+#endif

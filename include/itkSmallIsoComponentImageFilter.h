@@ -1,0 +1,268 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentImageFilter_h
+#define itkSmallIsoComponentImageFilter_h
+
+#include "itkInPlaceImageFilter.h"
+#include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentRunLabeling.h"
+#include <map>
+#include <type_traits>
+
+namespace itk
+{
+/** \class SmallIsoComponentImageFilter
+ * \brief Removes the components of at most K voxels on either side of an isovalue, so that
+ * an isosurface extracted afterwards has no specks or bubbles.
+ *
+ * Every voxel is \e above the isovalue σ (f >= σ) or \e below it (f < σ, NaN included):
+ * the test Marching Cubes uses, so the isosurface separates exactly these two sets.
+ * The filter finds the connected components of both sets (face connectivity by default,
+ * 2·N neighbours; FullyConnected gives 3^N - 1) and \e removes the small ones: those with
+ * at most MaximumComponentSize (K) voxels. Removing a component changes only its own
+ * voxels, each to a value on the other side of σ; every other voxel keeps its value bit
+ * for bit.
+ *
+ * The new value of a removed voxel v is the mean of the first other-side values met when
+ * walking from v along each of the 2·N axis directions. A walk that leaves the image
+ * finds nothing; a walk from an above voxel that stops on a NaN finds nothing either
+ * (NaN is below σ but never a repair value). Walks read the values from before the
+ * current pass and cross only voxels of v's own component. The mean is taken in double
+ * precision; for integer output pixels it is rounded half up (itk::Math::Round), which
+ * cannot move it back across σ because the values it averages are all integers on one
+ * side. A voxel whose walks all find nothing (only possible when its component spans
+ * the image along every axis through it) gets the representable value on the other side
+ * closest to σ and is counted in GetNumberOfUnrepairableVoxels(). If the output type has
+ * no value on the other side at all (for example σ <= 0 for unsigned char, which puts
+ * every voxel above), the component cannot be removed: it is kept and its voxels are
+ * counted as unrepairable.
+ *
+ * Side selects the pass: Above removes small above components (specks outside a dense
+ * object), Below removes small below components (bubbles inside it), Both runs Above and
+ * then Below on the result of the first pass. After Both no component of either side
+ * has at most K voxels, except unrepairable ones. Removing a speck can join a bubble
+ * inside it to the outside; such a bubble is then no longer small and stays.
+ *
+ * The input is first converted to the output pixel type (static_cast, as
+ * CastImageFilter does) and everything above is applied to the converted values, so the
+ * guarantees hold for the image the user gets.
+ *
+ * The threshold can also be given as a physical volume, MaximumComponentVolume, in the
+ * image's units cubed (mm³ for medical images): a component is small when its voxel count
+ * times the volume of one voxel (the product of the spacing) is at most that volume, so
+ * K = floor(volume / voxel volume). Whichever of MaximumComponentSize and
+ * MaximumComponentVolume was set last is used; GetEffectiveMaximumComponentSize() tells
+ * the K of the last Update().
+ *
+ * Outputs: output 0 is the filtered image (spacing, origin and direction unchanged);
+ * output 1, GetRemovedMask(), marks each voxel 0 (kept), 1 (removed in the above pass)
+ * or 2 (removed in the below pass, including voxels the above pass had already moved).
+ *
+ * Statistics, valid after Update(): the number of components of each side, how many of
+ * them were removed and how many voxels they had, the component-size histogram of each
+ * side (so the removal counts for every K follow from one run), the number of modified
+ * voxels (voxels the filter wrote, the nonzero voxels of the mask), and the number of
+ * unrepairable voxels. The above side's statistics describe the input; the below side's
+ * describe the image the below pass saw: the result of the above pass when Side is Both,
+ * the input otherwise.
+ *
+ * Algorithm: each scanline is encoded as alternating runs of the two sides; one
+ * union-find over the runs (SmallIsoComponentRunLabeling) labels both sides at once, in
+ * parallel slabs without locks. For Both, the below components after the above pass are
+ * found without relabelling: each removed above component merges with the below
+ * components it touches. Only the removed voxels are visited again for the repair.
+ * Output and statistics do not depend on the number of threads or work units.
+ *
+ * Memory beyond input, output and mask: 8 bytes per scanline run (a run is a maximal
+ * piece of a line on one side of σ), 9 bytes per line and per component, and one output
+ * pixel per removed voxel. Typical CT volumes have well under one run per 8 voxels, so
+ * this stays below 1 byte per voxel; the worst case, a checkerboard with a run per
+ * voxel, needs about 17 bytes per voxel (runs plus components).
+ *
+ * The filter can run in place (InPlaceOn(), when input and output types are the same),
+ * which saves the output buffer and the copy; it is off by default.
+ *
+ * \sa ConnectedComponentImageFilter
+ * \sa RelabelComponentImageFilter
+ * \sa BinaryThresholdImageFilter
+ * \sa BinaryShapeOpeningImageFilter
+ *
+ * \ingroup SmallIsoComponent
+ */
+template <typename TInputImage, typename TOutputImage = TInputImage>
+class ITK_TEMPLATE_EXPORT SmallIsoComponentImageFilter : public InPlaceImageFilter<TInputImage, TOutputImage>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(SmallIsoComponentImageFilter);
+
+  using Self = SmallIsoComponentImageFilter;
+  using Superclass = InPlaceImageFilter<TInputImage, TOutputImage>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  using InputImageType = TInputImage;
+  using OutputImageType = TOutputImage;
+  using InputPixelType = typename InputImageType::PixelType;
+  using OutputPixelType = typename OutputImageType::PixelType;
+  static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
+  using MaskPixelType = uint8_t;
+  using MaskImageType = Image<MaskPixelType, ImageDimension>;
+  using SideEnum = SmallIsoComponentEnums::Side;
+  /** Component size (voxels) -> number of components of that size. */
+  using ComponentSizeHistogramType = std::map<SizeValueType, SizeValueType>;
+
+  static_assert(std::is_arithmetic<InputPixelType>::value,
+                "SmallIsoComponentImageFilter needs a scalar input pixel type (an integer or floating-point "
+                "type); vector, RGB and complex pixels have no isovalue.");
+  static_assert(std::is_arithmetic<OutputPixelType>::value,
+                "SmallIsoComponentImageFilter needs a scalar output pixel type (an integer or floating-point type).");
+  static_assert(static_cast<unsigned int>(TOutputImage::ImageDimension) == ImageDimension,
+                "SmallIsoComponentImageFilter needs input and output images of the same dimension.");
+
+  itkNewMacro(Self);
+#ifdef itkOverrideGetNameOfClassMacro
+  itkOverrideGetNameOfClassMacro(SmallIsoComponentImageFilter);
+#else
+  itkTypeMacro(SmallIsoComponentImageFilter, InPlaceImageFilter);
+#endif
+
+  /** The isovalue σ. Voxels with f >= σ are above, all others (NaN included) below. */
+  itkSetMacro(IsoValue, double);
+  itkGetConstMacro(IsoValue, double);
+
+  /** K: components with at most K voxels are removed; 0 removes nothing. Default 20. */
+  virtual void
+  SetMaximumComponentSize(SizeValueType size);
+  itkGetConstMacro(MaximumComponentSize, SizeValueType);
+
+  /** The threshold as a physical volume (units of the spacing, cubed): components whose
+   * volume is at most this are removed. Must be >= 0. */
+  virtual void
+  SetMaximumComponentVolume(double volume);
+  itkGetConstMacro(MaximumComponentVolume, double);
+
+  /** True when the last threshold set was MaximumComponentVolume. */
+  itkGetConstMacro(UseMaximumComponentVolume, bool);
+
+  /** Which side loses its small components. Default Both. */
+  itkSetEnumMacro(Side, SideEnum);
+  itkGetEnumMacro(Side, SideEnum);
+
+  /** Face connectivity (off, the default) or full connectivity (on). */
+  itkSetMacro(FullyConnected, bool);
+  itkGetConstReferenceMacro(FullyConnected, bool);
+  itkBooleanMacro(FullyConnected);
+
+  /** Mask of the removed voxels: 0 kept, 1 removed above, 2 removed below. */
+  MaskImageType *
+  GetRemovedMask();
+
+  /** \name Statistics of the last Update()
+   * side is Above or Below (Both is not a side and gives an exception). */
+  /** @{ */
+  SizeValueType
+  GetNumberOfComponents(SideEnum side) const;
+  SizeValueType
+  GetNumberOfRemovedComponents(SideEnum side) const;
+  SizeValueType
+  GetNumberOfRemovedVoxels(SideEnum side) const;
+  const ComponentSizeHistogramType &
+  GetComponentSizeHistogram(SideEnum side) const;
+  itkGetConstMacro(NumberOfModifiedVoxels, SizeValueType);
+  itkGetConstMacro(NumberOfUnrepairableVoxels, SizeValueType);
+  /** K used by the last Update() (from MaximumComponentVolume when that was set last). */
+  itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
+  /** Peak bytes the last Update() held beyond input, output and mask. */
+  itkGetConstMacro(PeakExtraMemoryInBytes, SizeValueType);
+  /** @} */
+
+  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
+  using Superclass::MakeOutput;
+  DataObject::Pointer
+  MakeOutput(DataObjectPointerArraySizeType idx) override;
+
+protected:
+  SmallIsoComponentImageFilter();
+  ~SmallIsoComponentImageFilter() override = default;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+  void
+  VerifyPreconditions() ITKv5_CONST override;
+
+  /** The whole image is needed: components reach anywhere. */
+  void
+  GenerateInputRequestedRegion() override;
+  void
+  EnlargeOutputRequestedRegion(DataObject * output) override;
+
+  void
+  GenerateData() override;
+
+private:
+  struct SideStatistics
+  {
+    SizeValueType              Components{ 0 };
+    SizeValueType              RemovedComponents{ 0 };
+    SizeValueType              RemovedVoxels{ 0 };
+    ComponentSizeHistogramType Histogram;
+  };
+
+  const SideStatistics &
+  StatisticsOf(SideEnum side) const;
+
+  /** Encodes every line of the output buffer as runs (after copying the input to it). */
+  void
+  EncodeRuns(SmallIsoComponentRunLabeling & labeling, const InputImageType * input, OutputImageType * output);
+
+  /** Gives every voxel of the runs selected by \a removedComponent (indexed by the
+   * run's component) a value on the other side, marks it in the mask with \a maskValue,
+   * and returns the number of voxels changed. */
+  SizeValueType
+  Repair(const SmallIsoComponentRunLabeling & labeling,
+         const std::vector<uint8_t> &         removedComponent,
+         bool                                 removedAreAbove,
+         MaskPixelType                        maskValue,
+         OutputImageType *                    output,
+         MaskImageType *                      mask);
+
+  void
+  CheckAbort(float progress);
+
+  double        m_IsoValue{ 0.0 };
+  SizeValueType m_MaximumComponentSize{ 20 };
+  double        m_MaximumComponentVolume{ 0.0 };
+  bool          m_UseMaximumComponentVolume{ false };
+  SideEnum      m_Side{ SideEnum::Both };
+  bool          m_FullyConnected{ false };
+
+  SideStatistics m_AboveStatistics;
+  SideStatistics m_BelowStatistics;
+  SizeValueType  m_NumberOfModifiedVoxels{ 0 };
+  SizeValueType  m_NumberOfUnrepairableVoxels{ 0 };
+  SizeValueType  m_EffectiveMaximumComponentSize{ 0 };
+  SizeValueType  m_PeakExtraMemoryInBytes{ 0 };
+};
+} // end namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkSmallIsoComponentImageFilter.hxx"
+#endif
+
+#endif

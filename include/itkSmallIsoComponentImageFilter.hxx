@@ -1,0 +1,622 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentImageFilter_hxx
+#define itkSmallIsoComponentImageFilter_hxx
+
+#include "itkSmallIsoComponentImageFilter.h"
+#include "itkMath.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+/** The isovalue σ seen through pixel type T: f >= σ holds exactly when f >= LowestAbove
+ * (NaN never), and HighestBelow is the largest non-NaN value below σ. */
+template <typename T>
+struct IsoThreshold
+{
+  bool AnyAbove{ false };
+  T    LowestAbove{};
+  bool AnyBelow{ false };
+  T    HighestBelow{};
+
+  explicit IsoThreshold(double iso)
+  {
+    if constexpr (std::is_integral<T>::value)
+    {
+      const double lowest = static_cast<double>(std::numeric_limits<T>::lowest());
+      const double highest = static_cast<double>(std::numeric_limits<T>::max());
+      const double ceiling = std::ceil(iso);
+      AnyAbove = ceiling <= highest;
+      LowestAbove = ceiling <= lowest ? std::numeric_limits<T>::lowest() : static_cast<T>(AnyAbove ? ceiling : highest);
+      AnyBelow = ceiling - 1.0 >= lowest;
+      HighestBelow = ceiling - 1.0 >= highest ? std::numeric_limits<T>::max()
+                                              : static_cast<T>(AnyBelow ? ceiling - 1.0 : lowest);
+    }
+    else
+    {
+      LowestAbove = static_cast<T>(iso);
+      if (static_cast<double>(LowestAbove) < iso)
+      {
+        LowestAbove = std::nextafter(LowestAbove, std::numeric_limits<T>::infinity());
+      }
+      AnyAbove = static_cast<double>(LowestAbove) >= iso;
+      HighestBelow = static_cast<T>(iso);
+      if (static_cast<double>(HighestBelow) >= iso)
+      {
+        HighestBelow = std::nextafter(HighestBelow, -std::numeric_limits<T>::infinity());
+      }
+      AnyBelow = static_cast<double>(HighestBelow) < iso;
+    }
+  }
+
+  bool
+  IsAbove(T value) const
+  {
+    return AnyAbove && value >= LowestAbove;
+  }
+};
+
+template <typename T>
+bool
+IsNaN(T value)
+{
+  if constexpr (std::is_floating_point<T>::value)
+  {
+    return std::isnan(value);
+  }
+  else
+  {
+    (void)value;
+    return false;
+  }
+}
+
+/** A mean of values of type T, as T: rounded half up for integers. */
+template <typename T>
+T
+MeanToPixel(double mean)
+{
+  if constexpr (std::is_integral<T>::value)
+  {
+    return static_cast<T>(Math::Round<int64_t>(mean));
+  }
+  else
+  {
+    return static_cast<T>(mean);
+  }
+}
+} // namespace SmallIsoComponentDetail
+
+template <typename TInputImage, typename TOutputImage>
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SmallIsoComponentImageFilter()
+{
+  this->SetNumberOfRequiredOutputs(2);
+  this->SetNthOutput(1, this->MakeOutput(1));
+  this->InPlaceOff();
+}
+
+template <typename TInputImage, typename TOutputImage>
+DataObject::Pointer
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::MakeOutput(DataObjectPointerArraySizeType idx)
+{
+  if (idx == 1)
+  {
+    return MaskImageType::New().GetPointer();
+  }
+  return Superclass::MakeOutput(idx);
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetRemovedMask() -> MaskImageType *
+{
+  return itkDynamicCastInDebugMode<MaskImageType *>(this->ProcessObject::GetOutput(1));
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SetMaximumComponentSize(SizeValueType size)
+{
+  if (m_MaximumComponentSize != size || m_UseMaximumComponentVolume)
+  {
+    m_MaximumComponentSize = size;
+    m_UseMaximumComponentVolume = false;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SetMaximumComponentVolume(double volume)
+{
+  if (Math::NotExactlyEquals(m_MaximumComponentVolume, volume) || !m_UseMaximumComponentVolume)
+  {
+    m_MaximumComponentVolume = volume;
+    m_UseMaximumComponentVolume = true;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) const -> const SideStatistics &
+{
+  switch (side)
+  {
+    case SideEnum::Above:
+      return m_AboveStatistics;
+    case SideEnum::Below:
+      return m_BelowStatistics;
+    default:
+      itkExceptionMacro("Statistics are kept per side: ask for SideEnum::Above or SideEnum::Below, not " << side);
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfComponents(SideEnum side) const
+{
+  return this->StatisticsOf(side).Components;
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedComponents(SideEnum side) const
+{
+  return this->StatisticsOf(side).RemovedComponents;
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedVoxels(SideEnum side) const
+{
+  return this->StatisticsOf(side).RemovedVoxels;
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetComponentSizeHistogram(SideEnum side) const
+  -> const ComponentSizeHistogramType &
+{
+  return this->StatisticsOf(side).Histogram;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+{
+  Superclass::VerifyPreconditions();
+  if (std::isnan(m_IsoValue))
+  {
+    itkExceptionMacro("IsoValue is NaN; it must be a number (every voxel is compared with it).");
+  }
+  if (m_UseMaximumComponentVolume && !(m_MaximumComponentVolume >= 0.0))
+  {
+    itkExceptionMacro("MaximumComponentVolume is " << m_MaximumComponentVolume
+                                                   << "; it must be a volume >= 0 in the image's physical units cubed.");
+  }
+  if (m_Side != SideEnum::Above && m_Side != SideEnum::Below && m_Side != SideEnum::Both)
+  {
+    itkExceptionMacro("Side is " << static_cast<int>(m_Side) << "; it must be Above, Below or Both.");
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
+{
+  Superclass::GenerateInputRequestedRegion();
+  if (auto * input = const_cast<InputImageType *>(this->GetInput()))
+  {
+    input->SetRequestedRegionToLargestPossibleRegion();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EnlargeOutputRequestedRegion(DataObject *)
+{
+  for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
+  {
+    if (DataObject * output = this->ProcessObject::GetOutput(i))
+    {
+      output->SetRequestedRegionToLargestPossibleRegion();
+    }
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CheckAbort(float progress)
+{
+  this->UpdateProgress(progress);
+  if (this->GetAbortGenerateData())
+  {
+    ProcessAborted abort(__FILE__, __LINE__);
+    abort.SetDescription("SmallIsoComponentImageFilter: aborted by the user");
+    throw abort;
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentRunLabeling & labeling,
+                                                                   const InputImageType *         input,
+                                                                   OutputImageType *              output)
+{
+  const SmallIsoComponentDetail::IsoThreshold<OutputPixelType> threshold(m_IsoValue);
+  const InputPixelType *                                       inBuffer = input->GetBufferPointer();
+  OutputPixelType *                                            outBuffer = output->GetBufferPointer();
+  const bool          copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
+  const SizeValueType length = labeling.GetLineLength();
+
+  this->GetMultiThreader()->ParallelizeArray(
+    0,
+    labeling.GetNumberOfSlabs(),
+    [&](SizeValueType slab) {
+      auto & starts = labeling.GetSlabRunStarts(static_cast<unsigned int>(slab));
+      for (SizeValueType line = labeling.GetSlabBeginLine(static_cast<unsigned int>(slab));
+           line < labeling.GetSlabBeginLine(static_cast<unsigned int>(slab) + 1);
+           ++line)
+      {
+        const InputPixelType * in = inBuffer + line * length;
+        OutputPixelType *      out = outBuffer + line * length;
+        if (copy)
+        {
+          std::transform(in, in + length, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
+        }
+        const bool    firstAbove = threshold.IsAbove(out[0]);
+        bool          above = firstAbove;
+        SizeValueType runs = 1;
+        starts.push_back(0);
+        for (SizeValueType x = 1; x < length; ++x)
+        {
+          if (threshold.IsAbove(out[x]) != above)
+          {
+            above = !above;
+            starts.push_back(static_cast<SmallIsoComponentRunLabeling::CoordinateType>(x));
+            ++runs;
+          }
+        }
+        labeling.SetLineRuns(line, runs, firstAbove);
+      }
+    },
+    nullptr);
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoComponentRunLabeling & labeling,
+                                                               const std::vector<uint8_t> &         removedComponent,
+                                                               bool                                 removedAreAbove,
+                                                               MaskPixelType                        maskValue,
+                                                               OutputImageType *                    output,
+                                                               MaskImageType *                      mask)
+{
+  using namespace SmallIsoComponentDetail;
+  const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
+  const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow : threshold.LowestAbove;
+
+  // The removed runs, with the offset of their first new value.
+  struct RemovedRun
+  {
+    SizeValueType Run;
+    SizeValueType Line;
+    SizeValueType FirstValue;
+  };
+  std::vector<RemovedRun> runs;
+  SizeValueType           numberOfValues = 0;
+  for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
+  {
+    for (SizeValueType run = labeling.GetLineRunsBegin(line); run < labeling.GetLineRunsEnd(line); ++run)
+    {
+      if (removedComponent[labeling.GetRunComponent(run)])
+      {
+        runs.push_back({ run, line, numberOfValues });
+        numberOfValues += labeling.GetRunEnd(run, line) - labeling.GetRunStart(run);
+      }
+    }
+  }
+  if (runs.empty())
+  {
+    return 0;
+  }
+
+  const SizeValueType        dimension = ImageDimension;
+  const auto &               size = output->GetBufferedRegion().GetSize();
+  std::vector<OffsetValueType> stride(dimension, 1);
+  for (unsigned int a = 1; a < dimension; ++a)
+  {
+    stride[a] = stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
+  }
+  OutputPixelType * buffer = output->GetBufferPointer();
+  const auto        sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
+
+  // New values are computed before any is written: walks read the values before the pass.
+  std::vector<OutputPixelType> values(numberOfValues);
+  const SizeValueType          chunks = std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
+  std::vector<SizeValueType>   unrepairable(chunks, 0);
+  this->GetMultiThreader()->ParallelizeArray(
+    0,
+    chunks,
+    [&](SizeValueType chunk) {
+      std::vector<SizeValueType> coordinates;
+      const SizeValueType        length = size[0];
+      for (SizeValueType i = chunk * runs.size() / chunks; i < (chunk + 1) * runs.size() / chunks; ++i)
+      {
+        const RemovedRun & removed = runs[i];
+        labeling.LineCoordinates(removed.Line, coordinates);
+        const OutputPixelType * line = buffer + removed.Line * length;
+        const SizeValueType     start = labeling.GetRunStart(removed.Run);
+        const SizeValueType     end = labeling.GetRunEnd(removed.Run, removed.Line);
+        // Along axis 0 every voxel of the run meets the same two values.
+        SizeValueType left = start;
+        while (left > 0 && sameSide(line[left - 1]))
+        {
+          --left;
+        }
+        SizeValueType right = end;
+        while (right < length && sameSide(line[right]))
+        {
+          ++right;
+        }
+        for (SizeValueType x = start; x < end; ++x)
+        {
+          double        sum = 0.0;
+          unsigned int  found = 0;
+          const auto    use = [&](OutputPixelType v) {
+            if (!IsNaN(v))
+            {
+              sum += static_cast<double>(v);
+              ++found;
+            }
+          };
+          if (left > 0)
+          {
+            use(line[left - 1]);
+          }
+          if (right < length)
+          {
+            use(line[right]);
+          }
+          const OffsetValueType offset = static_cast<OffsetValueType>(removed.Line * length + x);
+          for (unsigned int a = 1; a < dimension; ++a)
+          {
+            const SizeValueType c = coordinates[a - 1];
+            for (SizeValueType k = 1; k <= c; ++k)
+            {
+              const OutputPixelType v = buffer[offset - static_cast<OffsetValueType>(k) * stride[a]];
+              if (!sameSide(v))
+              {
+                use(v);
+                break;
+              }
+            }
+            for (SizeValueType k = 1; c + k < size[a]; ++k)
+            {
+              const OutputPixelType v = buffer[offset + static_cast<OffsetValueType>(k) * stride[a]];
+              if (!sameSide(v))
+              {
+                use(v);
+                break;
+              }
+            }
+          }
+          OutputPixelType & value = values[removed.FirstValue + (x - start)];
+          if (found > 0)
+          {
+            value = MeanToPixel<OutputPixelType>(sum / found);
+          }
+          else
+          {
+            value = fallback;
+            ++unrepairable[chunk];
+          }
+        }
+      }
+    },
+    nullptr);
+
+  MaskPixelType * maskBuffer = mask->GetBufferPointer();
+  SizeValueType   newlyModified = 0;
+  for (const RemovedRun & removed : runs)
+  {
+    const SizeValueType first = removed.Line * size[0] + labeling.GetRunStart(removed.Run);
+    const SizeValueType count = labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
+    std::copy(values.begin() + removed.FirstValue, values.begin() + removed.FirstValue + count, buffer + first);
+    newlyModified += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
+    std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
+  }
+  for (const SizeValueType u : unrepairable)
+  {
+    m_NumberOfUnrepairableVoxels += u;
+  }
+  m_PeakExtraMemoryInBytes =
+    std::max(m_PeakExtraMemoryInBytes,
+             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(RemovedRun) +
+               values.capacity() * sizeof(OutputPixelType));
+  return newlyModified;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
+{
+  using namespace SmallIsoComponentDetail;
+  const InputImageType * input = this->GetInput();
+  this->AllocateOutputs();
+  OutputImageType * output = this->GetOutput();
+  MaskImageType *   mask = this->GetRemovedMask();
+  mask->FillBuffer(0);
+
+  const auto & region = output->GetBufferedRegion();
+  if (input->GetBufferedRegion() != region || mask->GetBufferedRegion() != region)
+  {
+    itkExceptionMacro("The input's buffered region " << input->GetBufferedRegion()
+                                                     << " differs from the output's " << region
+                                                     << "; the filter needs the whole image in one buffer.");
+  }
+  if (region.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro("The input image is empty (size " << region.GetSize() << "); it must have at least one voxel.");
+  }
+
+  m_EffectiveMaximumComponentSize = m_MaximumComponentSize;
+  if (m_UseMaximumComponentVolume)
+  {
+    double voxelVolume = 1.0;
+    for (unsigned int a = 0; a < ImageDimension; ++a)
+    {
+      voxelVolume *= input->GetSpacing()[a];
+    }
+    // A relative tolerance keeps volume = k * voxel volume from rounding down to k - 1.
+    const double voxels = m_MaximumComponentVolume / voxelVolume * (1.0 + 1e-12);
+    m_EffectiveMaximumComponentSize = voxels >= static_cast<double>(NumericTraits<SizeValueType>::max())
+                                        ? NumericTraits<SizeValueType>::max()
+                                        : static_cast<SizeValueType>(std::floor(voxels));
+  }
+  const SizeValueType K = m_EffectiveMaximumComponentSize;
+  m_AboveStatistics = SideStatistics();
+  m_BelowStatistics = SideStatistics();
+  m_NumberOfModifiedVoxels = 0;
+  m_NumberOfUnrepairableVoxels = 0;
+  m_PeakExtraMemoryInBytes = 0;
+
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  SmallIsoComponentRunLabeling labeling;
+  std::vector<SizeValueType>   extent(region.GetSize().begin(), region.GetSize().end());
+  labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
+
+  // Phase 1: copy to the output and encode each line as runs of the two sides.
+  this->EncodeRuns(labeling, input, output);
+  this->CheckAbort(0.3f);
+  labeling.AssembleRuns(this->GetMultiThreader());
+  m_PeakExtraMemoryInBytes = labeling.GetPeakMemoryInBytes();
+  this->CheckAbort(0.35f);
+
+  // Phase 2: link touching runs of each side, then number the components.
+  labeling.LinkRuns(this->GetMultiThreader());
+  this->CheckAbort(0.6f);
+  labeling.LabelComponents();
+  m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes, labeling.GetMemoryInBytes());
+  this->CheckAbort(0.7f);
+
+  const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
+  const SizeValueType                 numberOfComponents = labeling.GetNumberOfComponents();
+
+  // Phase 3: the above pass, on the input's components.
+  std::vector<uint8_t> removedAbove(numberOfComponents, 0);
+  for (SizeValueType c = 0; c < numberOfComponents; ++c)
+  {
+    if (!labeling.IsComponentAbove(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c)))
+    {
+      continue;
+    }
+    const SizeValueType componentSize = labeling.GetComponentSize(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c));
+    ++m_AboveStatistics.Components;
+    ++m_AboveStatistics.Histogram[componentSize];
+    if (m_Side != SideEnum::Below && componentSize <= K)
+    {
+      if (threshold.AnyBelow)
+      {
+        removedAbove[c] = 1;
+        ++m_AboveStatistics.RemovedComponents;
+        m_AboveStatistics.RemovedVoxels += componentSize;
+      }
+      else
+      {
+        m_NumberOfUnrepairableVoxels += componentSize;
+      }
+    }
+  }
+  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, true, 1, output, mask);
+  this->CheckAbort(0.8f);
+
+  // Phase 4: the below pass. With Both it sees the result of the above pass: each removed
+  // above component has joined the below components it touches.
+  const bool aboveWasRemoved = m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+  if (!aboveWasRemoved)
+  {
+    std::fill(removedAbove.begin(), removedAbove.end(), 0);
+  }
+  std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> groupOfComponent;
+  std::vector<SizeValueType>                                    groupSize;
+  labeling.GroupAfterFlip(removedAbove, groupOfComponent, groupSize);
+  std::vector<uint8_t> removedGroup(groupSize.size(), 0);
+  for (SizeValueType g = 0; g < groupSize.size(); ++g)
+  {
+    ++m_BelowStatistics.Components;
+    ++m_BelowStatistics.Histogram[groupSize[g]];
+    if (m_Side != SideEnum::Above && groupSize[g] <= K)
+    {
+      if (threshold.AnyAbove)
+      {
+        removedGroup[g] = 1;
+        ++m_BelowStatistics.RemovedComponents;
+        m_BelowStatistics.RemovedVoxels += groupSize[g];
+      }
+      else
+      {
+        m_NumberOfUnrepairableVoxels += groupSize[g];
+      }
+    }
+  }
+  std::vector<uint8_t> removedBelow(numberOfComponents, 0);
+  for (SizeValueType c = 0; c < numberOfComponents; ++c)
+  {
+    removedBelow[c] = groupOfComponent[c] != SmallIsoComponentRunLabeling::NoGroup && removedGroup[groupOfComponent[c]];
+  }
+  m_PeakExtraMemoryInBytes =
+    std::max(m_PeakExtraMemoryInBytes,
+             labeling.GetMemoryInBytes() + removedAbove.capacity() + removedBelow.capacity() + removedGroup.capacity() +
+               (groupOfComponent.capacity() + numberOfComponents) * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType) +
+               groupSize.capacity() * sizeof(SizeValueType));
+  this->CheckAbort(0.85f);
+  m_NumberOfModifiedVoxels += this->Repair(labeling, removedBelow, false, 2, output, mask);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "IsoValue: " << m_IsoValue << std::endl;
+  os << indent << "MaximumComponentSize: " << m_MaximumComponentSize << std::endl;
+  os << indent << "MaximumComponentVolume: " << m_MaximumComponentVolume << std::endl;
+  os << indent << "UseMaximumComponentVolume: " << (m_UseMaximumComponentVolume ? "On" : "Off") << std::endl;
+  os << indent << "Side: " << m_Side << std::endl;
+  os << indent << "FullyConnected: " << (m_FullyConnected ? "On" : "Off") << std::endl;
+  os << indent << "EffectiveMaximumComponentSize: " << m_EffectiveMaximumComponentSize << std::endl;
+  os << indent << "NumberOfComponents (above, below): " << m_AboveStatistics.Components << ", "
+     << m_BelowStatistics.Components << std::endl;
+  os << indent << "NumberOfRemovedComponents (above, below): " << m_AboveStatistics.RemovedComponents << ", "
+     << m_BelowStatistics.RemovedComponents << std::endl;
+  os << indent << "NumberOfRemovedVoxels (above, below): " << m_AboveStatistics.RemovedVoxels << ", "
+     << m_BelowStatistics.RemovedVoxels << std::endl;
+  os << indent << "NumberOfModifiedVoxels: " << m_NumberOfModifiedVoxels << std::endl;
+  os << indent << "NumberOfUnrepairableVoxels: " << m_NumberOfUnrepairableVoxels << std::endl;
+  os << indent << "PeakExtraMemoryInBytes: " << m_PeakExtraMemoryInBytes << std::endl;
+}
+} // end namespace itk
+
+#endif

@@ -1,0 +1,230 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRunLabeling_h
+#define itkSmallIsoComponentRunLabeling_h
+
+#include "itkIntTypes.h"
+#include "itkMultiThreaderBase.h"
+#include "SmallIsoComponentExport.h"
+#include <algorithm>
+#include <vector>
+
+namespace itk
+{
+/** \class SmallIsoComponentRunLabeling
+ * \brief Connected components of both sides of an isovalue, computed over scanline runs.
+ *
+ * This is the part of SmallIsoComponentImageFilter that does not depend on the pixel
+ * type. The image is seen as lines along axis 0. Each line is split into maximal runs of
+ * voxels on one side of the isovalue; runs alternate between the sides, so a line is
+ * described by the start of each run and the side of its first run. One union-find over
+ * the runs of both sides gives the components of both sides at once.
+ *
+ * Linking is parallel without locks: the lines are split into slabs of whole planes along
+ * the last axis, each work unit links the runs inside its slab, and the seams between
+ * slabs are linked afterwards. Union by smaller run index with path halving keeps every
+ * parent index at or below its run's index, so one pass in run order turns parents into
+ * dense component numbers; the result does not depend on the number of slabs.
+ *
+ * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
+ * component), 9 bytes per line, and 9 bytes per component.
+ *
+ * \ingroup SmallIsoComponent
+ */
+class SmallIsoComponent_EXPORT SmallIsoComponentRunLabeling
+{
+public:
+  using RunIndexType = uint32_t;
+  using ComponentIndexType = uint32_t;
+  using CoordinateType = uint32_t;
+
+  /** Marks a component that belongs to no group in GroupAfterFlip(). */
+  static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
+
+  /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
+   * largest number of slabs the work may be split into. Clears earlier results. */
+  void
+  Initialize(const std::vector<SizeValueType> & size, bool fullyConnected, unsigned int maximumNumberOfSlabs);
+
+  SizeValueType
+  GetLineLength() const
+  {
+    return m_Size[0];
+  }
+  SizeValueType
+  GetNumberOfLines() const
+  {
+    return m_NumberOfLines;
+  }
+  unsigned int
+  GetNumberOfSlabs() const
+  {
+    return static_cast<unsigned int>(m_SlabBeginLine.size() - 1);
+  }
+  /** First line of a slab; GetSlabBeginLine(GetNumberOfSlabs()) is the number of lines. */
+  SizeValueType
+  GetSlabBeginLine(unsigned int slab) const
+  {
+    return m_SlabBeginLine[slab];
+  }
+
+  /** \name Run encoding
+   * The pixel-type specific code encodes the lines of each slab in order, appending the
+   * start of every run to GetSlabRunStarts(slab) and calling SetLineRuns() once per
+   * line; different slabs may be encoded concurrently. AssembleRuns() then joins the
+   * slabs into one run array. */
+  /** @{ */
+  std::vector<CoordinateType> &
+  GetSlabRunStarts(unsigned int slab)
+  {
+    return m_SlabRunStarts[slab];
+  }
+  void
+  SetLineRuns(SizeValueType line, SizeValueType numberOfRuns, bool firstRunIsAbove)
+  {
+    m_LineRunBegin[line + 1] = numberOfRuns;
+    m_LineFirstAbove[line] = firstRunIsAbove;
+  }
+  void
+  AssembleRuns(MultiThreaderBase * threader);
+  /** @} */
+
+  /** Links the runs of each side that touch under the chosen connectivity. */
+  void
+  LinkRuns(MultiThreaderBase * threader);
+
+  /** Numbers the components in order of their first run and sums their sizes. */
+  void
+  LabelComponents();
+
+  SizeValueType
+  GetNumberOfRuns() const
+  {
+    return m_RunStart.size();
+  }
+  SizeValueType
+  GetLineRunsBegin(SizeValueType line) const
+  {
+    return m_LineRunBegin[line];
+  }
+  SizeValueType
+  GetLineRunsEnd(SizeValueType line) const
+  {
+    return m_LineRunBegin[line + 1];
+  }
+  SizeValueType
+  GetRunStart(SizeValueType run) const
+  {
+    return m_RunStart[run];
+  }
+  /** One past the run's last voxel; line is the run's line. */
+  SizeValueType
+  GetRunEnd(SizeValueType run, SizeValueType line) const
+  {
+    return run + 1 < m_LineRunBegin[line + 1] ? m_RunStart[run + 1] : m_Size[0];
+  }
+  bool
+  IsRunAbove(SizeValueType run, SizeValueType line) const
+  {
+    return (m_LineFirstAbove[line] != 0) != (((run - m_LineRunBegin[line]) & 1) != 0);
+  }
+  /** Valid after LabelComponents(). */
+  ComponentIndexType
+  GetRunComponent(SizeValueType run) const
+  {
+    return m_RunLabel[run];
+  }
+
+  SizeValueType
+  GetNumberOfComponents() const
+  {
+    return m_ComponentSize.size();
+  }
+  SizeValueType
+  GetComponentSize(ComponentIndexType component) const
+  {
+    return m_ComponentSize[component];
+  }
+  bool
+  IsComponentAbove(ComponentIndexType component) const
+  {
+    return m_ComponentAbove[component] != 0;
+  }
+
+  /** The below components after the above components flagged in \a flipped (one flag
+   * per component) have been moved below the isovalue: each flipped component joins
+   * the below components it touches, and through them other ones. On return,
+   * groupOfComponent holds the group of every below or flipped component (NoGroup for
+   * the other above components), numbered in order of their first run, and groupSize
+   * the number of voxels in each group. No voxel is read: only the runs. */
+  void
+  GroupAfterFlip(const std::vector<uint8_t> &      flipped,
+                 std::vector<ComponentIndexType> & groupOfComponent,
+                 std::vector<SizeValueType> &      groupSize) const;
+
+  /** Coordinates along axes 1..N-1 of a line. */
+  void
+  LineCoordinates(SizeValueType line, std::vector<SizeValueType> & coordinates) const;
+
+  /** Bytes held now by the run, line and component arrays. */
+  SizeValueType
+  GetMemoryInBytes() const;
+  /** Most bytes held at once so far (AssembleRuns() briefly holds the runs twice). */
+  SizeValueType
+  GetPeakMemoryInBytes() const
+  {
+    return std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
+  }
+
+private:
+  /** A neighbouring line: offset along axes 1..N-1 and in line numbers. */
+  struct LineNeighbor
+  {
+    std::vector<int>  Delta;
+    OffsetValueType   LineOffset;
+  };
+
+  RunIndexType
+  Find(RunIndexType run);
+  void
+  Union(RunIndexType a, RunIndexType b);
+  void
+  LinkLines(SizeValueType lineA, SizeValueType lineB);
+  bool
+  NeighborInside(const std::vector<SizeValueType> & coordinates, const LineNeighbor & neighbor) const;
+
+  std::vector<SizeValueType> m_Size;
+  SizeValueType              m_NumberOfLines{ 0 };
+  bool                       m_FullyConnected{ false };
+  std::vector<SizeValueType> m_SlabBeginLine;
+  /** Neighbours at a lower line number (each pair of lines is linked once) and all. */
+  std::vector<LineNeighbor> m_BackwardNeighbors;
+  std::vector<LineNeighbor> m_AllNeighbors;
+
+  std::vector<std::vector<CoordinateType>> m_SlabRunStarts;
+  std::vector<CoordinateType>              m_RunStart;
+  std::vector<SizeValueType>               m_LineRunBegin;
+  std::vector<uint8_t>                     m_LineFirstAbove;
+  std::vector<RunIndexType>                m_RunLabel;
+  std::vector<SizeValueType>               m_ComponentSize;
+  std::vector<uint8_t>                     m_ComponentAbove;
+  SizeValueType                            m_PeakMemoryInBytes{ 0 };
+};
+} // end namespace itk
+
+#endif
