@@ -227,9 +227,13 @@ private:
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
-  /** Encodes every line of the output buffer as runs (after copying the input to it). */
+  /** Copies each line of the input to the output, clears its mask line, and encodes it
+   * as runs. */
   void
-  EncodeRuns(SmallIsoComponentRunLabeling & labeling, const InputImageType * input, OutputImageType * output);
+  EncodeRuns(SmallIsoComponentRunLabeling & labeling,
+             const InputImageType *         input,
+             OutputImageType *              output,
+             MaskImageType *                mask);
 
   /** Gives every voxel of the runs selected by \a removedComponent (indexed by the
    * run's component) a value on the other side, marks it in the mask with \a maskValue,

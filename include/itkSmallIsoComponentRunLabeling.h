@@ -205,6 +205,8 @@ private:
   Union(RunIndexType a, RunIndexType b);
   void
   LinkLines(SizeValueType lineA, SizeValueType lineB);
+  void
+  NextLineCoordinates(std::vector<SizeValueType> & coordinates) const;
   bool
   NeighborInside(const std::vector<SizeValueType> & coordinates, const LineNeighbor & neighbor) const;
 

@@ -150,10 +150,11 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
 SmallIsoComponentRunLabeling::RunIndexType
 SmallIsoComponentRunLabeling::Find(RunIndexType run)
 {
-  while (m_RunLabel[run] != run)
+  RunIndexType * parent = m_RunLabel.data();
+  while (parent[run] != run)
   {
-    m_RunLabel[run] = m_RunLabel[m_RunLabel[run]];
-    run = m_RunLabel[run];
+    parent[run] = parent[parent[run]];
+    run = parent[run];
   }
   return run;
 }
@@ -176,24 +177,38 @@ SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 void
 SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
 {
+  const SizeValueType aBegin = m_LineRunBegin[lineA];
+  const SizeValueType aEnd = m_LineRunBegin[lineA + 1];
+  const SizeValueType bBegin = m_LineRunBegin[lineB];
+  const SizeValueType bEnd = m_LineRunBegin[lineB + 1];
+  bool                aboveA = m_LineFirstAbove[lineA] != 0;
+  const bool          firstAboveB = m_LineFirstAbove[lineB] != 0;
+  if (aEnd - aBegin == 1 && bEnd - bBegin == 1)
+  {
+    if (aboveA == firstAboveB)
+    {
+      this->Union(static_cast<RunIndexType>(aBegin), static_cast<RunIndexType>(bBegin));
+    }
+    return;
+  }
   // Runs of the same side touch when their x ranges overlap, or, with full
   // connectivity, when they are diagonal neighbours (one voxel of allowance).
-  const SizeValueType allowance = m_FullyConnected ? 1 : 0;
-  const SizeValueType aEnd = m_LineRunBegin[lineA + 1];
-  const SizeValueType bEnd = m_LineRunBegin[lineB + 1];
-  SizeValueType       b = m_LineRunBegin[lineB];
-  for (SizeValueType a = m_LineRunBegin[lineA]; a < aEnd; ++a)
+  const SizeValueType          allowance = m_FullyConnected ? 1 : 0;
+  const SizeValueType          length = m_Size[0];
+  const CoordinateType * const start = m_RunStart.data();
+  SizeValueType                b = bBegin;
+  for (SizeValueType a = aBegin; a < aEnd; ++a, aboveA = !aboveA)
   {
-    const SizeValueType startA = m_RunStart[a];
-    const SizeValueType endA = this->GetRunEnd(a, lineA);
-    while (b < bEnd && this->GetRunEnd(b, lineB) + allowance <= startA)
+    const SizeValueType startA = start[a];
+    const SizeValueType endA = a + 1 < aEnd ? start[a + 1] : length;
+    while (b + 1 < bEnd && start[b + 1] + allowance <= startA)
     {
       ++b;
     }
-    const bool aboveA = this->IsRunAbove(a, lineA);
-    for (SizeValueType k = b; k < bEnd && m_RunStart[k] < endA + allowance; ++k)
+    bool aboveK = firstAboveB != (((b - bBegin) & 1) != 0);
+    for (SizeValueType k = b; k < bEnd && start[k] < endA + allowance; ++k, aboveK = !aboveK)
     {
-      if (this->IsRunAbove(k, lineB) == aboveA)
+      if (aboveK == aboveA)
       {
         this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(k));
       }
@@ -209,6 +224,19 @@ SmallIsoComponentRunLabeling::LineCoordinates(SizeValueType line, std::vector<Si
   {
     coordinates[a] = line % m_Size[a + 1];
     line /= m_Size[a + 1];
+  }
+}
+
+void
+SmallIsoComponentRunLabeling::NextLineCoordinates(std::vector<SizeValueType> & coordinates) const
+{
+  for (unsigned int a = 0; a < coordinates.size(); ++a)
+  {
+    if (++coordinates[a] < m_Size[a + 1])
+    {
+      return;
+    }
+    coordinates[a] = 0;
   }
 }
 
@@ -245,9 +273,8 @@ SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase * threader)
       const SizeValueType        end = m_SlabBeginLine[slab + 1];
       this->LineCoordinates(begin, coordinates);
       const SizeValueType firstPlane = coordinates[lastAxis];
-      for (SizeValueType line = begin; line < end; ++line)
+      for (SizeValueType line = begin; line < end; ++line, this->NextLineCoordinates(coordinates))
       {
-        this->LineCoordinates(line, coordinates);
         for (const auto & neighbor : m_BackwardNeighbors)
         {
           const bool crossesSeam = neighbor.Delta[lastAxis] < 0 && coordinates[lastAxis] == firstPlane;
