@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the project needs (only those missing) and builds it.
+# Usage: scripts/setup.sh            (build directory: $SMALLISO_BUILD_DIR, default ./build)
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${SMALLISO_BUILD_DIR:-$root/build}
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libinsighttoolkit5-dev  # ITK 5.2.1
+  libgtest-dev            # GoogleTest
+  python3                 # test helpers (XML and JSON checks)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing missing Debian packages: ${missing[*]}"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+    sudo=sudo
+  fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+echo "setup: configuring and building in $build"
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON >"$build.configure.log" 2>&1 || {
+  cat "$build.configure.log" >&2; exit 1; }
+cmake --build "$build" -j "$(nproc)"

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Sets up (installs missing Debian packages, builds) and runs every test of the project.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${SMALLISO_BUILD_DIR:-$root/build}
+"$root/scripts/setup.sh"
+cd "$build"
+ctest --output-on-failure -j "$(nproc)" --timeout 900
