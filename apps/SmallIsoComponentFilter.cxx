@@ -1,0 +1,449 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// SmallIsoComponentFilter: removes the small components on either side of an isovalue from
+// an image file. The command line, --help and --xml all come from DescribeTool().
+
+#include "itkSmallIsoComponentImageFilter.h"
+#include "sicCommandLine.h"
+#include "sicFilterReport.h"
+#include "sicImageFiles.h"
+#include "sicProgressReporter.h"
+#include "sicScalarImageDispatch.h"
+#include "sicSlicerDescription.h"
+#include "sicStagedOutputs.h"
+#include "sicToolError.h"
+
+#include "itkMultiThreaderBase.h"
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+
+namespace
+{
+using sic::Option;
+using sic::SlicerParameter;
+
+const char * const ToolName = "SmallIsoComponentFilter";
+
+sic::ToolDescription
+DescribeTool()
+{
+  sic::ToolDescription tool;
+  tool.Name = ToolName;
+  tool.Usage = "SmallIsoComponentFilter INPUT OUTPUT --isovalue S [--max-size K | --max-volume V] "
+               "[--side above|below|both] [--fully-connected] [--removed-mask FILE] [--stats FILE.json] "
+               "[--threads N] [--quiet] [--progress-xml] [--xml] [--help]";
+  tool.Description =
+    "Removes the small connected components that noise leaves on either side of an isovalue S: specks of voxels "
+    ">= S floating outside an object and bubbles of voxels < S inside it. Only the voxels of those components "
+    "change, each to a value on the other side of S (the mean of the nearest other-side values along the "
+    "axes); every other voxel keeps its value bit for bit, so an isosurface extracted at S afterwards (Marching "
+    "Cubes, Slicer's Grayscale Model Maker) has no tiny pieces. Any scalar 2-D or 3-D image ITK reads (NRRD, "
+    "NIfTI, MetaImage, PNG, ...) is processed in its own pixel type; spacing, origin and direction are kept.";
+
+  const auto image = [](const char * name, const char * label, const char * channel, const char * type) {
+    SlicerParameter parameter;
+    parameter.Tag = "image";
+    parameter.Name = name;
+    parameter.Label = label;
+    parameter.Group = "Input/Output";
+    parameter.Channel = channel;
+    parameter.ImageType = type;
+    return parameter;
+  };
+  tool.Positionals = {
+    { "INPUT",
+      "The image to clean: a scalar image (one value per voxel), 2-D or 3-D, with pixel type " +
+        sic::SupportedPixelTypes() + ".",
+      image("inputVolume", "Input volume", "input", "scalar") },
+    { "OUTPUT",
+      "Where to write the cleaned image, with the input's pixel type, in the format its extension names (.nrrd, "
+      ".nhdr, .nii, .nii.gz, .mha, .mhd, .png, ...), compressed where the format allows. It must not be the "
+      "input.",
+      image("outputVolume", "Output volume", "output", "scalar") },
+  };
+
+  const auto parameter = [](const char * tag, const char * name, const char * label, const char * group) {
+    SlicerParameter slicer;
+    slicer.Tag = tag;
+    slicer.Name = name;
+    slicer.Label = label;
+    slicer.Group = group;
+    return slicer;
+  };
+  Option isovalue{ "--isovalue",
+                   "S",
+                   "The isovalue, in the image's intensity units: voxels with a value >= S are above it, all "
+                   "others (NaN included) below. Required.",
+                   "",
+                   parameter("double", "isovalue", "Isovalue", "Parameters") };
+  isovalue.Slicer.Default = "100";
+  Option maxSize{ "--max-size",
+                  "K",
+                  "The largest component removed, in voxels: components of at most K voxels are small. 0 removes "
+                  "nothing.",
+                  "20 voxels, unless --max-volume is given",
+                  parameter("integer", "maxSize", "Maximum size (voxels)", "Parameters") };
+  maxSize.Slicer.Default = "20";
+  maxSize.Slicer.Minimum = "0";
+  maxSize.Slicer.Maximum = "1000000000";
+  Option maxVolume{ "--max-volume",
+                    "V",
+                    "The largest component removed, as a physical volume in mm³ (the image's spacing units "
+                    "cubed): a component is small when its voxel count times the voxel volume is at most V, so "
+                    "K = floor(V / voxel volume). Give --max-size or --max-volume, not both; a value of 0 leaves "
+                    "either unused (in Slicer, set the maximum size to 0 to use the maximum volume).",
+                    "unused",
+                    parameter("double", "maxVolume", "Maximum volume (mm³)", "Parameters") };
+  maxVolume.Slicer.Default = "0";
+  maxVolume.Slicer.Minimum = "0";
+  maxVolume.Slicer.Maximum = "1e12";
+  maxVolume.Slicer.Step = "0.1";
+  Option side{ "--side",
+               "above|below|both",
+               "Which small components to remove: above (specks of voxels >= S, e.g. outside a dense object), "
+               "below (bubbles of voxels < S, e.g. inside it) or both (above first, then below on the result).",
+               "both",
+               parameter("string-enumeration", "side", "Side", "Parameters") };
+  side.Slicer.Elements = { "above", "below", "both" };
+  Option fullyConnected{ "--fully-connected",
+                         "",
+                         "Connect voxels that share an edge or a corner too, not only a face (26 neighbours in "
+                         "3-D and 8 in 2-D, instead of 6 and 4).",
+                         "face connectivity",
+                         parameter("boolean", "fullyConnected", "Fully connected", "Parameters") };
+  fullyConnected.Slicer.Default = "false";
+  Option removedMask{ "--removed-mask",
+                      "FILE",
+                      "Also write a mask of the changed voxels (uint8: 0 kept, 1 removed with an above "
+                      "component, 2 removed with a below component), in the format FILE's extension names.",
+                      "",
+                      image("removedMask", "Removed voxels", "output", "label") };
+  Option stats{ "--stats",
+                "FILE.json",
+                "Also write the input's description, the parameters and every statistic as JSON: per side the "
+                "components, removed components, removed voxels and component-size histogram ([size, count] "
+                "pairs); modified and unrepairable voxels, seconds and peak extra memory in bytes.",
+                "",
+                parameter("file", "statsFile", "Statistics (JSON)", "Input/Output") };
+  stats.Slicer.Channel = "output";
+  stats.Slicer.FileExtensions = ".json";
+  Option threads{ "--threads",
+                  "N",
+                  "Number of threads (ITK work units) to use; 0 uses ITK's default (the number of cores, or "
+                  "ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not depend on it.",
+                  "0",
+                  parameter("integer", "threads", "Threads", "Advanced") };
+  threads.Slicer.Minimum = "0";
+  threads.Slicer.Maximum = "1024";
+  Option quiet{ "--quiet",
+                "",
+                "Print neither progress nor the summary; errors are still reported on stderr.",
+                "",
+                parameter("boolean", "quiet", "Quiet", "Advanced") };
+  Option progressXml{ "--progress-xml",
+                      "",
+                      "Report progress as 3D Slicer reads it, <filter-start>, <filter-progress> and <filter-end> "
+                      "lines on stdout, instead of on stderr. Slicer passes it (a hidden parameter of --xml).",
+                      "",
+                      parameter("boolean", "progressXml", "Progress for Slicer", "Advanced") };
+  progressXml.Slicer.Default = "true";
+  progressXml.Slicer.Hidden = true;
+  tool.Options = {
+    isovalue,
+    maxSize,
+    maxVolume,
+    side,
+    fullyConnected,
+    removedMask,
+    stats,
+    threads,
+    quiet,
+    progressXml,
+    { "--xml", "", "Print the tool's 3D Slicer Execution Model description (XML) and exit.", "", {} },
+    { "--help", "", "Print this help and exit (also -h).", "", {} },
+  };
+
+  tool.Epilogue =
+    "While it works, the tool shows progress on stderr (a bar on a terminal, a line per stage otherwise), then\n"
+    "prints a one-paragraph summary on stdout. The output image, the mask and the statistics appear together,\n"
+    "only after all of them were written; after a failure none of them exists.\n"
+    "\n"
+    "Exit status:\n"
+    "  0  success\n"
+    "  1  the processing failed (e.g. out of memory)\n"
+    "  2  a wrong command line, an unreadable or unsupported input, or an output that cannot be\n"
+    "     written; one line on stderr says what was wrong and what was expected\n"
+    "\n"
+    "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a mask and statistics:\n"
+    "  SmallIsoComponentFilter ct.nrrd ct-clean.nrrd --isovalue 150 --max-size 20 \\\n"
+    "      --removed-mask removed.nrrd --stats stats.json\n";
+
+  tool.Category = "Surface Models";
+  tool.Title = "Small Iso Component Filter";
+  tool.Version = SIC_VERSION;
+  tool.Contributor = "SmallIsoComponent contributors";
+  tool.License = "Apache 2.0";
+  tool.Acknowledgements = "Built on the Insight Toolkit (ITK).";
+  return tool;
+}
+
+sic::FilterSettings
+ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & arguments)
+{
+  sic::CheckPositionals(tool, arguments);
+  sic::FilterSettings settings;
+  settings.Input = arguments.Positionals()[0];
+  settings.Output = arguments.Positionals()[1];
+  if (!arguments.Has("--isovalue"))
+  {
+    throw sic::ToolError("missing --isovalue S; expected the isovalue in the image's intensity units, e.g. "
+                         "--isovalue 150");
+  }
+  settings.IsoValue = sic::ParseNumber("--isovalue", arguments.Value("--isovalue"));
+  if (arguments.Has("--max-size"))
+  {
+    settings.MaximumSize = sic::ParseCount("--max-size", arguments.Value("--max-size"));
+    settings.MaximumSizeGiven = true;
+  }
+  if (arguments.Has("--max-volume"))
+  {
+    const double volume = sic::ParseNumber("--max-volume", arguments.Value("--max-volume"));
+    if (volume < 0.0)
+    {
+      throw sic::ToolError("--max-volume '" + arguments.Value("--max-volume") +
+                           "' is negative; expected a volume >= 0 in mm³");
+    }
+    settings.MaximumVolume = volume;
+  }
+  if (settings.UsesVolume() && settings.MaximumSizeGiven && settings.MaximumSize > 0)
+  {
+    throw sic::ToolError("both --max-size (" + arguments.Value("--max-size") + " voxels) and --max-volume (" +
+                         arguments.Value("--max-volume") +
+                         " mm³) are given; expected one of them (or set the other to 0)");
+  }
+  if (arguments.Has("--side"))
+  {
+    settings.Side = sic::ParseChoice("--side", arguments.Value("--side"), { "above", "below", "both" });
+  }
+  settings.FullyConnected = arguments.Has("--fully-connected");
+  settings.RemovedMask = arguments.Value("--removed-mask");
+  settings.Stats = arguments.Value("--stats");
+  if (arguments.Has("--removed-mask") && settings.RemovedMask.empty())
+  {
+    throw sic::ToolError("--removed-mask is empty; expected a file path");
+  }
+  if (arguments.Has("--stats") && settings.Stats.empty())
+  {
+    throw sic::ToolError("--stats is empty; expected a file path");
+  }
+  if (arguments.Has("--threads"))
+  {
+    settings.Threads = sic::ParseCount("--threads", arguments.Value("--threads"));
+    if (settings.Threads > ITK_MAX_THREADS)
+    {
+      throw sic::ToolError("--threads " + arguments.Value("--threads") + " is too many; expected 0 to " +
+                           std::to_string(ITK_MAX_THREADS));
+    }
+  }
+  settings.Quiet = arguments.Has("--quiet");
+  settings.ProgressXml = arguments.Has("--progress-xml");
+  return settings;
+}
+
+itk::SmallIsoComponentEnums::Side
+SideOf(const std::string & side)
+{
+  using SideEnum = itk::SmallIsoComponentEnums::Side;
+  return side == "above" ? SideEnum::Above : side == "below" ? SideEnum::Below : SideEnum::Both;
+}
+
+template <typename TFilter>
+sic::SideReport
+SideStatistics(const TFilter & filter, itk::SmallIsoComponentEnums::Side side)
+{
+  sic::SideReport report;
+  report.Components = filter.GetNumberOfComponents(side);
+  report.RemovedComponents = filter.GetNumberOfRemovedComponents(side);
+  report.RemovedVoxels = filter.GetNumberOfRemovedVoxels(side);
+  for (const auto & [size, count] : filter.GetComponentSizeHistogram(side))
+  {
+    report.Histogram[size] = count;
+  }
+  return report;
+}
+
+/** Where each output is written before it is moved into place. */
+struct StagedPaths
+{
+  std::string Image;
+  std::string RemovedMask;
+};
+
+template <typename TImage>
+sic::FilterReport
+FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, sic::ProgressReporter & progress)
+{
+  using FilterType = itk::SmallIsoComponentImageFilter<TImage>;
+
+  progress.Stage("reading " + settings.Input, 0.0, 0.1);
+  typename TImage::Pointer image = sic::ReadImage<TImage>(settings.Input, "input", progress.Observer());
+
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  // The input is not needed afterwards: filtering in place saves a copy of the volume.
+  filter->InPlaceOn();
+  filter->SetIsoValue(settings.IsoValue);
+  if (settings.UsesVolume())
+  {
+    filter->SetMaximumComponentVolume(*settings.MaximumVolume);
+  }
+  else
+  {
+    filter->SetMaximumComponentSize(settings.MaximumSize);
+  }
+  filter->SetSide(SideOf(settings.Side));
+  filter->SetFullyConnected(settings.FullyConnected);
+  if (settings.Threads > 0)
+  {
+    filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  filter->AddObserver(itk::ProgressEvent(), progress.Observer());
+  image = nullptr;
+
+  progress.Stage("removing small components", 0.1, 0.85);
+  const auto start = std::chrono::steady_clock::now();
+  filter->Update();
+  const auto stop = std::chrono::steady_clock::now();
+
+  progress.Stage("writing " + settings.Output, 0.85, settings.RemovedMask.empty() ? 1.0 : 0.95);
+  sic::WriteImage(filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer());
+  if (!settings.RemovedMask.empty())
+  {
+    progress.Stage("writing " + settings.RemovedMask, 0.95, 1.0);
+    sic::WriteImage(
+      filter->GetRemovedMask(), staged.RemovedMask, settings.RemovedMask, "removed-voxel mask", progress.Observer());
+  }
+
+  sic::FilterReport report;
+  report.EffectiveMaximumSize = filter->GetEffectiveMaximumComponentSize();
+  report.Threads = filter->GetNumberOfWorkUnits();
+  report.Above = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Above);
+  report.Below = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Below);
+  report.ModifiedVoxels = filter->GetNumberOfModifiedVoxels();
+  report.UnrepairableVoxels = filter->GetNumberOfUnrepairableVoxels();
+  report.PeakExtraBytes = filter->GetPeakExtraMemoryInBytes();
+  report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
+  return report;
+}
+
+int
+Run(const sic::FilterSettings & settings)
+{
+  const auto start = std::chrono::steady_clock::now();
+  const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(settings.Input, "input");
+
+  // Every output is checked, and its staging place made, before the work starts.
+  sic::CheckImageFileExtension(settings.Output, "output image");
+  if (!settings.RemovedMask.empty())
+  {
+    sic::CheckImageFileExtension(settings.RemovedMask, "removed-voxel mask");
+  }
+  sic::StagedOutputs outputs;
+  outputs.Protect(settings.Input, "the input image");
+  StagedPaths staged;
+  staged.Image = outputs.Stage(settings.Output, "output image");
+  if (!settings.RemovedMask.empty())
+  {
+    staged.RemovedMask = outputs.Stage(settings.RemovedMask, "removed-voxel mask");
+  }
+  const std::string stagedStats = settings.Stats.empty() ? "" : outputs.Stage(settings.Stats, "statistics");
+
+  if (settings.Threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  sic::ProgressReporter progress(sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml),
+                                 ToolName,
+                                 "Removing small components at isovalue " + std::to_string(settings.IsoValue));
+  sic::FilterReport report = sic::DispatchScalarImage(
+    info, [&](auto tag) { return FilterImage<typename decltype(tag)::ImageType>(settings, staged, progress); });
+  report.Input = info;
+  report.TotalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (!stagedStats.empty())
+  {
+    std::ofstream file(stagedStats);
+    sic::WriteStatisticsJson(file, ToolName, SIC_VERSION, settings, report);
+    file.close();
+    if (!file)
+    {
+      throw sic::ToolError("cannot write the statistics to '" + settings.Stats + "'");
+    }
+  }
+  outputs.Commit();
+  progress.Finish();
+  if (!settings.Quiet)
+  {
+    sic::WriteSummary(std::cout, settings, report);
+  }
+  return sic::ExitSuccess;
+}
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  const sic::ToolDescription tool = DescribeTool();
+  try
+  {
+    const sic::ParsedCommandLine arguments = sic::ParseCommandLine(tool, argc, argv);
+    if (arguments.Has("--help"))
+    {
+      std::cout << sic::HelpText(tool);
+      return sic::ExitSuccess;
+    }
+    if (arguments.Has("--xml"))
+    {
+      std::cout << sic::SlicerDescriptionXml(tool);
+      return sic::ExitSuccess;
+    }
+    return Run(ReadSettings(tool, arguments));
+  }
+  catch (const sic::ToolError & error)
+  {
+    std::cerr << ToolName << ": " << error.what() << std::endl;
+    return sic::ExitUsage;
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    std::cerr << ToolName << ": " << sic::OneLine(error.GetDescription()) << std::endl;
+    return sic::ExitFailure;
+  }
+  catch (const std::bad_alloc &)
+  {
+    std::cerr << ToolName << ": out of memory" << std::endl;
+    return sic::ExitFailure;
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << ToolName << ": " << sic::OneLine(error.what()) << std::endl;
+    return sic::ExitFailure;
+  }
+}
