@@ -250,48 +250,60 @@ public:
       threadCounts.push_back(machineThreads);
     }
 
-    typename ImageType<T>::Pointer smallIsoOutput;
-    std::size_t                    smallIsoRemovedAbove = 0;
-    std::size_t                    ccRemovedAbove = 0;
-    std::vector<T>                 voxelUnionFindOutput;
+    // Each peer's pipeline is built once and re-executed, so every peer reuses its
+    // buffers between repetitions, as a pipeline that re-executes does.
+    using SmallIsoType = itk::SmallIsoComponentImageFilter<ImageType<T>>;
+    using BinaryImageType = itk::Image<uint8_t, Dimension>;
+    using LabelImageType = itk::Image<uint32_t, Dimension>;
+    using ThresholdType = itk::BinaryThresholdImageFilter<ImageType<T>, BinaryImageType>;
+    using ConnectedType = itk::ConnectedComponentImageFilter<BinaryImageType, LabelImageType>;
+    using RelabelType = itk::RelabelComponentImageFilter<LabelImageType, LabelImageType>;
+    std::map<unsigned int, typename SmallIsoType::Pointer>  smallIso;
+    std::map<unsigned int, typename ThresholdType::Pointer> threshold;
+    std::map<unsigned int, typename ConnectedType::Pointer> connected;
+    std::map<unsigned int, typename RelabelType::Pointer>   relabel;
+    for (const unsigned int threads : threadCounts)
+    {
+      smallIso[threads] = SmallIsoType::New();
+      smallIso[threads]->SetInput(input);
+      smallIso[threads]->SetIsoValue(isoValue);
+      smallIso[threads]->SetMaximumComponentSize(MaximumSize);
+      smallIso[threads]->SetNumberOfWorkUnits(threads);
+
+      threshold[threads] = ThresholdType::New();
+      threshold[threads]->SetInput(input);
+      threshold[threads]->SetLowerThreshold(static_cast<T>(std::ceil(isoValue)));
+      threshold[threads]->SetInsideValue(1);
+      threshold[threads]->SetOutsideValue(0);
+      threshold[threads]->SetNumberOfWorkUnits(threads);
+      connected[threads] = ConnectedType::New();
+      connected[threads]->SetInput(threshold[threads]->GetOutput());
+      connected[threads]->SetNumberOfWorkUnits(threads);
+      relabel[threads] = RelabelType::New();
+      relabel[threads]->SetInput(connected[threads]->GetOutput());
+      // RelabelComponentImageFilter drops objects smaller than MinimumObjectSize: K + 1.
+      relabel[threads]->SetMinimumObjectSize(MaximumSize + 1);
+      relabel[threads]->SetNumberOfWorkUnits(threads);
+    }
+    VoxelUnionFind::Peer<T> peer;
+    std::vector<T>          voxelUnionFindOutput(voxels);
+    const std::size_t       size[3] = { region.GetSize()[0], region.GetSize()[1], region.GetSize()[2] };
+
     for (unsigned int repetition = 0; repetition < m_Options.Repeat; ++repetition)
     {
       for (const unsigned int threads : threadCounts)
       {
         itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(threads);
-        auto filter = itk::SmallIsoComponentImageFilter<ImageType<T>>::New();
-        filter->SetInput(input);
-        filter->SetIsoValue(isoValue);
-        filter->SetMaximumComponentSize(MaximumSize);
-        filter->SetNumberOfWorkUnits(threads);
-        times[{ "smalliso", threads }].push_back(TimeMs([&] { filter->Update(); }));
-        extra[{ "smalliso", threads }] = filter->GetPeakExtraMemoryInBytes();
-        smallIsoOutput = filter->GetOutput();
-        smallIsoRemovedAbove = filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
+        smallIso[threads]->Modified();
+        times[{ "smalliso", threads }].push_back(TimeMs([&] { smallIso[threads]->Update(); }));
+        extra[{ "smalliso", threads }] = smallIso[threads]->GetPeakExtraMemoryInBytes();
 
-        auto threshold = itk::BinaryThresholdImageFilter<ImageType<T>, itk::Image<uint8_t, Dimension>>::New();
-        threshold->SetInput(input);
-        threshold->SetLowerThreshold(static_cast<T>(std::ceil(isoValue)));
-        threshold->SetInsideValue(1);
-        threshold->SetOutsideValue(0);
-        threshold->SetNumberOfWorkUnits(threads);
-        using LabelImageType = itk::Image<uint32_t, Dimension>;
-        auto connected = itk::ConnectedComponentImageFilter<itk::Image<uint8_t, Dimension>, LabelImageType>::New();
-        connected->SetInput(threshold->GetOutput());
-        connected->SetNumberOfWorkUnits(threads);
-        auto relabel = itk::RelabelComponentImageFilter<LabelImageType, LabelImageType>::New();
-        relabel->SetInput(connected->GetOutput());
-        // RelabelComponentImageFilter drops objects smaller than MinimumObjectSize: K + 1.
-        relabel->SetMinimumObjectSize(MaximumSize + 1);
-        relabel->SetNumberOfWorkUnits(threads);
-        times[{ "itk-cc-relabel", threads }].push_back(TimeMs([&] { relabel->Update(); }));
+        threshold[threads]->Modified();
+        times[{ "itk-cc-relabel", threads }].push_back(TimeMs([&] { relabel[threads]->Update(); }));
         extra[{ "itk-cc-relabel", threads }] = voxels * (sizeof(uint8_t) + 2 * sizeof(uint32_t));
-        ccRemovedAbove = connected->GetObjectCount() - relabel->GetNumberOfObjects();
       }
 
-      VoxelUnionFind::Peer<T> peer;
-      const std::size_t       size[3] = { region.GetSize()[0], region.GetSize()[1], region.GetSize()[2] };
-      voxelUnionFindOutput.assign(input->GetBufferPointer(), input->GetBufferPointer() + voxels);
+      std::copy(input->GetBufferPointer(), input->GetBufferPointer() + voxels, voxelUnionFindOutput.begin());
       times[{ "voxel-union-find", 1 }].push_back(
         TimeMs([&] { peer.Run(voxelUnionFindOutput.data(), size, isoValue, MaximumSize); }));
       extra[{ "voxel-union-find", 1 }] = peer.ExtraBytes();
@@ -300,6 +312,10 @@ public:
         TimeMs([&] { std::memcpy(copy->GetBufferPointer(), input->GetBufferPointer(), voxels * sizeof(T)); }));
       extra[{ "memcpy", 1 }] = 0;
     }
+    const unsigned int                   most = threadCounts.back();
+    const typename ImageType<T>::Pointer smallIsoOutput = smallIso[most]->GetOutput();
+    const std::size_t smallIsoRemovedAbove = smallIso[most]->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
+    const std::size_t ccRemovedAbove = connected[most]->GetObjectCount() - relabel[most]->GetNumberOfObjects();
 
     // The peers that do the same job must agree to the voxel.
     if (!std::equal(voxelUnionFindOutput.begin(), voxelUnionFindOutput.end(), smallIsoOutput->GetBufferPointer()))

@@ -454,30 +454,19 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
   const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow : threshold.LowestAbove;
 
-  // The removed runs, with the offset of their first new value.
-  struct RemovedRun
-  {
-    SizeValueType Run;
-    SizeValueType Line;
-    SizeValueType FirstValue;
-  };
-  std::vector<RemovedRun> runs;
-  SizeValueType           numberOfValues = 0;
-  for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
-  {
-    for (SizeValueType run = labeling.GetLineRunsBegin(line); run < labeling.GetLineRunsEnd(line); ++run)
-    {
-      if (removedComponent[labeling.GetRunComponent(run)])
-      {
-        runs.push_back({ run, line, numberOfValues });
-        numberOfValues += labeling.GetRunEnd(run, line) - labeling.GetRunStart(run);
-      }
-    }
-  }
+  // The removed runs, and where each one's new values start.
+  const std::vector<SmallIsoComponentRunLabeling::LineRun> runs =
+    labeling.CollectRuns(removedComponent, this->GetMultiThreader());
   if (runs.empty())
   {
     return 0;
   }
+  std::vector<SizeValueType> firstValue(runs.size() + 1, 0);
+  for (SizeValueType i = 0; i < runs.size(); ++i)
+  {
+    firstValue[i + 1] = firstValue[i] + labeling.GetRunEnd(runs[i].Run, runs[i].Line) - labeling.GetRunStart(runs[i].Run);
+  }
+  const SizeValueType numberOfValues = firstValue.back();
 
   const SizeValueType        dimension = ImageDimension;
   const auto &               size = output->GetBufferedRegion().GetSize();
@@ -501,7 +490,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
       const SizeValueType        length = size[0];
       for (SizeValueType i = chunk * runs.size() / chunks; i < (chunk + 1) * runs.size() / chunks; ++i)
       {
-        const RemovedRun & removed = runs[i];
+        const auto & removed = runs[i];
         labeling.LineCoordinates(removed.Line, coordinates);
         const OutputPixelType * line = buffer + removed.Line * length;
         const SizeValueType     start = labeling.GetRunStart(removed.Run);
@@ -559,7 +548,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
               }
             }
           }
-          OutputPixelType & value = values[removed.FirstValue + (x - start)];
+          OutputPixelType & value = values[firstValue[i] + (x - start)];
           if (found > 0)
           {
             value = MeanToPixel<OutputPixelType>(sum / found);
@@ -576,11 +565,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
 
   MaskPixelType * maskBuffer = mask->GetBufferPointer();
   SizeValueType   newlyModified = 0;
-  for (const RemovedRun & removed : runs)
+  for (SizeValueType i = 0; i < runs.size(); ++i)
   {
-    const SizeValueType first = removed.Line * size[0] + labeling.GetRunStart(removed.Run);
-    const SizeValueType count = labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
-    std::copy(values.begin() + removed.FirstValue, values.begin() + removed.FirstValue + count, buffer + first);
+    const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
+    const SizeValueType count = firstValue[i + 1] - firstValue[i];
+    std::copy(values.begin() + firstValue[i], values.begin() + firstValue[i + 1], buffer + first);
     newlyModified += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
     std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
   }
@@ -590,8 +579,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   }
   m_PeakExtraMemoryInBytes =
     std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(RemovedRun) +
-               values.capacity() * sizeof(OutputPixelType));
+             labeling.GetMemoryInBytes() + removedComponent.capacity() +
+               runs.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) +
+               firstValue.capacity() * sizeof(SizeValueType) + values.capacity() * sizeof(OutputPixelType));
   return newlyModified;
 }
 
@@ -697,7 +687,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   }
   std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> groupOfComponent;
   std::vector<SizeValueType>                                    groupSize;
-  labeling.GroupAfterFlip(removedAbove, groupOfComponent, groupSize);
+  labeling.GroupAfterFlip(removedAbove, groupOfComponent, groupSize, this->GetMultiThreader());
   std::vector<uint8_t> removedGroup(groupSize.size(), 0);
   for (SizeValueType g = 0; g < groupSize.size(); ++g)
   {

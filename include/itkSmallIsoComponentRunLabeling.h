@@ -175,7 +175,19 @@ public:
   void
   GroupAfterFlip(const std::vector<uint8_t> &      flipped,
                  std::vector<ComponentIndexType> & groupOfComponent,
-                 std::vector<SizeValueType> &      groupSize) const;
+                 std::vector<SizeValueType> &      groupSize,
+                 MultiThreaderBase *               threader) const;
+
+  /** A run and its line. */
+  struct LineRun
+  {
+    SizeValueType Run;
+    SizeValueType Line;
+  };
+  /** The runs whose component is flagged in \a selected (one flag per component), in
+   * run order; the slabs are scanned in parallel. */
+  std::vector<LineRun>
+  CollectRuns(const std::vector<uint8_t> & selected, MultiThreaderBase * threader) const;
 
   /** Coordinates along axes 1..N-1 of a line. */
   void

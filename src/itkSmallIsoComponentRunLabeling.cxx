@@ -334,10 +334,40 @@ SmallIsoComponentRunLabeling::LabelComponents()
   }
 }
 
+auto
+SmallIsoComponentRunLabeling::CollectRuns(const std::vector<uint8_t> & selected, MultiThreaderBase * threader) const
+  -> std::vector<LineRun>
+{
+  std::vector<std::vector<LineRun>> perSlab(this->GetNumberOfSlabs());
+  threader->ParallelizeArray(
+    0,
+    this->GetNumberOfSlabs(),
+    [&](SizeValueType slab) {
+      for (SizeValueType line = m_SlabBeginLine[slab]; line < m_SlabBeginLine[slab + 1]; ++line)
+      {
+        for (SizeValueType run = m_LineRunBegin[line]; run < m_LineRunBegin[line + 1]; ++run)
+        {
+          if (selected[m_RunLabel[run]])
+          {
+            perSlab[slab].push_back({ run, line });
+          }
+        }
+      }
+    },
+    nullptr);
+  std::vector<LineRun> runs;
+  for (const auto & slabRuns : perSlab)
+  {
+    runs.insert(runs.end(), slabRuns.begin(), slabRuns.end());
+  }
+  return runs;
+}
+
 void
 SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      flipped,
                                              std::vector<ComponentIndexType> & groupOfComponent,
-                                             std::vector<SizeValueType> &      groupSize) const
+                                             std::vector<SizeValueType> &      groupSize,
+                                             MultiThreaderBase *               threader) const
 {
   const SizeValueType             numberOfComponents = m_ComponentSize.size();
   std::vector<ComponentIndexType> parent(numberOfComponents);
@@ -350,53 +380,41 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
 
   const SizeValueType        allowance = m_FullyConnected ? 1 : 0;
   std::vector<SizeValueType> coordinates;
-  for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
+  for (const LineRun & flippedRun : this->CollectRuns(flipped, threader))
   {
-    const SizeValueType lineBegin = m_LineRunBegin[line];
-    const SizeValueType lineEnd = m_LineRunBegin[line + 1];
-    bool                coordinatesKnown = false;
-    for (SizeValueType run = lineBegin; run < lineEnd; ++run)
+    const SizeValueType      run = flippedRun.Run;
+    const SizeValueType      line = flippedRun.Line;
+    const ComponentIndexType component = m_RunLabel[run];
+    // Runs alternate sides, so the runs beside a flipped (above) run are below.
+    if (run > m_LineRunBegin[line])
     {
-      const ComponentIndexType component = m_RunLabel[run];
-      if (!flipped[component])
+      join(component, m_RunLabel[run - 1]);
+    }
+    if (run + 1 < m_LineRunBegin[line + 1])
+    {
+      join(component, m_RunLabel[run + 1]);
+    }
+    this->LineCoordinates(line, coordinates);
+    const SizeValueType start = m_RunStart[run];
+    const SizeValueType end = this->GetRunEnd(run, line);
+    const SizeValueType from = start >= allowance ? start - allowance : 0;
+    for (const auto & neighbor : m_AllNeighbors)
+    {
+      if (!this->NeighborInside(coordinates, neighbor))
       {
         continue;
       }
-      // Runs alternate sides, so the runs beside a flipped (above) run are below.
-      if (run > lineBegin)
+      const SizeValueType other = line + neighbor.LineOffset;
+      const auto          first = m_RunStart.begin() + m_LineRunBegin[other];
+      const auto          last = m_RunStart.begin() + m_LineRunBegin[other + 1];
+      // The run that contains x = from, then every run that starts before end + allowance.
+      for (auto k = static_cast<SizeValueType>(std::upper_bound(first, last, from) - m_RunStart.begin()) - 1;
+           k < m_LineRunBegin[other + 1] && m_RunStart[k] < end + allowance;
+           ++k)
       {
-        join(component, m_RunLabel[run - 1]);
-      }
-      if (run + 1 < lineEnd)
-      {
-        join(component, m_RunLabel[run + 1]);
-      }
-      if (!coordinatesKnown)
-      {
-        this->LineCoordinates(line, coordinates);
-        coordinatesKnown = true;
-      }
-      const SizeValueType start = m_RunStart[run];
-      const SizeValueType end = this->GetRunEnd(run, line);
-      const SizeValueType from = start >= allowance ? start - allowance : 0;
-      for (const auto & neighbor : m_AllNeighbors)
-      {
-        if (!this->NeighborInside(coordinates, neighbor))
+        if (!this->IsRunAbove(k, other))
         {
-          continue;
-        }
-        const SizeValueType other = line + neighbor.LineOffset;
-        const auto          first = m_RunStart.begin() + m_LineRunBegin[other];
-        const auto          last = m_RunStart.begin() + m_LineRunBegin[other + 1];
-        // The run that contains x = from, then every run that starts before end + allowance.
-        for (auto k = static_cast<SizeValueType>(std::upper_bound(first, last, from) - m_RunStart.begin()) - 1;
-             k < m_LineRunBegin[other + 1] && m_RunStart[k] < end + allowance;
-             ++k)
-        {
-          if (!this->IsRunAbove(k, other))
-          {
-            join(component, m_RunLabel[k]);
-          }
+          join(component, m_RunLabel[k]);
         }
       }
     }
