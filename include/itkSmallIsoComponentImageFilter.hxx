@@ -220,6 +220,43 @@ NextSideChange(const T * line, SizeValueType from, SizeValueType length, const I
   return x;
 }
 
+/** Counts components by size: the many small sizes in an array, the few large ones in
+ * the histogram itself, so that millions of components cost no tree look-ups. */
+class SizeCounter
+{
+public:
+  void
+  Add(SizeValueType size)
+  {
+    if (size < m_Small.size())
+    {
+      ++m_Small[size];
+    }
+    else
+    {
+      ++m_Large[size];
+    }
+  }
+
+  std::map<SizeValueType, SizeValueType>
+  Histogram() const
+  {
+    std::map<SizeValueType, SizeValueType> histogram = m_Large;
+    for (SizeValueType size = 0; size < m_Small.size(); ++size)
+    {
+      if (m_Small[size] > 0)
+      {
+        histogram[size] = m_Small[size];
+      }
+    }
+    return histogram;
+  }
+
+private:
+  std::vector<SizeValueType>             m_Small = std::vector<SizeValueType>(4096, 0);
+  std::map<SizeValueType, SizeValueType> m_Large;
+};
+
 /** A mean of values of type T, as T: rounded half up for integers. */
 template <typename T>
 T
@@ -651,7 +688,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   const SizeValueType                 numberOfComponents = labeling.GetNumberOfComponents();
 
   // Phase 3: the above pass, on the input's components.
-  std::vector<uint8_t> removedAbove(numberOfComponents, 0);
+  std::vector<uint8_t>       removedAbove(numberOfComponents, 0);
+  SizeCounter                aboveSizes;
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
     if (!labeling.IsComponentAbove(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c)))
@@ -660,7 +698,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     }
     const SizeValueType componentSize = labeling.GetComponentSize(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c));
     ++m_AboveStatistics.Components;
-    ++m_AboveStatistics.Histogram[componentSize];
+    aboveSizes.Add(componentSize);
     if (m_Side != SideEnum::Below && componentSize <= K)
     {
       if (threshold.AnyBelow)
@@ -675,6 +713,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
       }
     }
   }
+  m_AboveStatistics.Histogram = aboveSizes.Histogram();
   m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, true, 1, output, mask);
   this->CheckAbort(0.8f);
 
@@ -689,10 +728,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   std::vector<SizeValueType>                                    groupSize;
   labeling.GroupAfterFlip(removedAbove, groupOfComponent, groupSize, this->GetMultiThreader());
   std::vector<uint8_t> removedGroup(groupSize.size(), 0);
+  SizeCounter          belowSizes;
   for (SizeValueType g = 0; g < groupSize.size(); ++g)
   {
     ++m_BelowStatistics.Components;
-    ++m_BelowStatistics.Histogram[groupSize[g]];
+    belowSizes.Add(groupSize[g]);
     if (m_Side != SideEnum::Above && groupSize[g] <= K)
     {
       if (threshold.AnyAbove)
@@ -707,6 +747,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
       }
     }
   }
+  m_BelowStatistics.Histogram = belowSizes.Histogram();
   std::vector<uint8_t> removedBelow(numberOfComponents, 0);
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {

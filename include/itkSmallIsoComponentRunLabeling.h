@@ -22,6 +22,7 @@
 #include "itkMultiThreaderBase.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 namespace itk
@@ -37,9 +38,10 @@ namespace itk
  *
  * Linking is parallel without locks: the lines are split into slabs of whole planes along
  * the last axis, each work unit links the runs inside its slab, and the seams between
- * slabs are linked afterwards. Union by smaller run index with path halving keeps every
- * parent index at or below its run's index, so one pass in run order turns parents into
- * dense component numbers; the result does not depend on the number of slabs.
+ * slabs are linked afterwards. The union-find is Rem's algorithm with splicing, linking
+ * towards the smaller run index: every parent index stays at or below its run's index,
+ * so one pass in run order turns parents into dense component numbers, and the result
+ * does not depend on the number of slabs.
  *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, and 9 bytes per component.
@@ -115,7 +117,7 @@ public:
   SizeValueType
   GetNumberOfRuns() const
   {
-    return m_RunStart.size();
+    return m_NumberOfRuns;
   }
   SizeValueType
   GetLineRunsBegin(SizeValueType line) const
@@ -211,8 +213,6 @@ private:
     OffsetValueType   LineOffset;
   };
 
-  RunIndexType
-  Find(RunIndexType run);
   void
   Union(RunIndexType a, RunIndexType b);
   void
@@ -231,10 +231,13 @@ private:
   std::vector<LineNeighbor> m_AllNeighbors;
 
   std::vector<std::vector<CoordinateType>> m_SlabRunStarts;
-  std::vector<CoordinateType>              m_RunStart;
+  SizeValueType                            m_NumberOfRuns{ 0 };
+  /** Arrays of m_NumberOfRuns entries, left uninitialised so that the parallel fill
+   * touches their pages first. */
+  std::unique_ptr<CoordinateType[]>        m_RunStart;
   std::vector<SizeValueType>               m_LineRunBegin;
   std::vector<uint8_t>                     m_LineFirstAbove;
-  std::vector<RunIndexType>                m_RunLabel;
+  std::unique_ptr<RunIndexType[]>          m_RunLabel;
   std::vector<SizeValueType>               m_ComponentSize;
   std::vector<uint8_t>                     m_ComponentAbove;
   SizeValueType                            m_PeakMemoryInBytes{ 0 };

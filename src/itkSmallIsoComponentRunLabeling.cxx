@@ -110,10 +110,11 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
   }
 
   m_SlabRunStarts.assign(slabs, {});
-  m_RunStart.clear();
+  m_NumberOfRuns = 0;
+  m_RunStart.reset();
   m_LineRunBegin.assign(m_NumberOfLines + 1, 0);
   m_LineFirstAbove.assign(m_NumberOfLines, 0);
-  m_RunLabel.clear();
+  m_RunLabel.reset();
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_PeakMemoryInBytes = 0;
@@ -131,46 +132,54 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
                              << " scanline runs; at most " << NumericTraits<RunIndexType>::max() - 1
                              << " are supported");
   }
-  m_RunStart.resize(numberOfRuns);
-  m_RunLabel.resize(numberOfRuns);
+  m_NumberOfRuns = numberOfRuns;
+  m_RunStart.reset(new CoordinateType[numberOfRuns]);
+  m_RunLabel.reset(new RunIndexType[numberOfRuns]);
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
   threader->ParallelizeArray(
     0,
     this->GetNumberOfSlabs(),
     [this](SizeValueType slab) {
       const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
-      std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.begin() + first);
+      std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
       std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
       const SizeValueType last = m_LineRunBegin[m_SlabBeginLine[slab + 1]];
-      std::iota(m_RunLabel.begin() + first, m_RunLabel.begin() + last, static_cast<RunIndexType>(first));
+      std::iota(m_RunLabel.get() + first, m_RunLabel.get() + last, static_cast<RunIndexType>(first));
     },
     nullptr);
-}
-
-SmallIsoComponentRunLabeling::RunIndexType
-SmallIsoComponentRunLabeling::Find(RunIndexType run)
-{
-  RunIndexType * parent = m_RunLabel.data();
-  while (parent[run] != run)
-  {
-    parent[run] = parent[parent[run]];
-    run = parent[run];
-  }
-  return run;
 }
 
 void
 SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 {
-  a = this->Find(a);
-  b = this->Find(b);
-  if (a < b)
+  // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
+  // the one with the larger parent and re-pointing it to the smaller parent on the way.
+  // Parents only ever decrease, so every parent stays at or below its run.
+  RunIndexType * parent = m_RunLabel.get();
+  while (parent[a] != parent[b])
   {
-    m_RunLabel[b] = a;
-  }
-  else if (b < a)
-  {
-    m_RunLabel[a] = b;
+    if (parent[a] > parent[b])
+    {
+      if (parent[a] == a)
+      {
+        parent[a] = parent[b];
+        return;
+      }
+      const RunIndexType next = parent[a];
+      parent[a] = parent[b];
+      a = next;
+    }
+    else
+    {
+      if (parent[b] == b)
+      {
+        parent[b] = parent[a];
+        return;
+      }
+      const RunIndexType next = parent[b];
+      parent[b] = parent[a];
+      b = next;
+    }
   }
 }
 
@@ -195,7 +204,7 @@ SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB
   // connectivity, when they are diagonal neighbours (one voxel of allowance).
   const SizeValueType          allowance = m_FullyConnected ? 1 : 0;
   const SizeValueType          length = m_Size[0];
-  const CoordinateType * const start = m_RunStart.data();
+  const CoordinateType * const start = m_RunStart.get();
   SizeValueType                b = bBegin;
   for (SizeValueType a = aBegin; a < aEnd; ++a, aboveA = !aboveA)
   {
@@ -405,10 +414,10 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
         continue;
       }
       const SizeValueType other = line + neighbor.LineOffset;
-      const auto          first = m_RunStart.begin() + m_LineRunBegin[other];
-      const auto          last = m_RunStart.begin() + m_LineRunBegin[other + 1];
+      const CoordinateType * first = m_RunStart.get() + m_LineRunBegin[other];
+      const CoordinateType * last = m_RunStart.get() + m_LineRunBegin[other + 1];
       // The run that contains x = from, then every run that starts before end + allowance.
-      for (auto k = static_cast<SizeValueType>(std::upper_bound(first, last, from) - m_RunStart.begin()) - 1;
+      for (auto k = static_cast<SizeValueType>(std::upper_bound(first, last, from) - m_RunStart.get()) - 1;
            k < m_LineRunBegin[other + 1] && m_RunStart[k] < end + allowance;
            ++k)
       {
@@ -443,7 +452,7 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
 SizeValueType
 SmallIsoComponentRunLabeling::GetMemoryInBytes() const
 {
-  SizeValueType bytes = m_RunStart.capacity() * sizeof(CoordinateType) + m_RunLabel.capacity() * sizeof(RunIndexType) +
+  SizeValueType bytes = m_NumberOfRuns * (sizeof(CoordinateType) + sizeof(RunIndexType)) +
                         m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
                         m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity();
   for (const auto & starts : m_SlabRunStarts)
