@@ -360,18 +360,15 @@ Run(const sic::FilterSettings & settings)
   const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(settings.Input, "input");
 
   // Every output is checked, and its staging place made, before the work starts.
-  sic::CheckImageFileExtension(settings.Output, "output image");
-  if (!settings.RemovedMask.empty())
-  {
-    sic::CheckImageFileExtension(settings.RemovedMask, "removed-voxel mask");
-  }
   sic::StagedOutputs outputs;
   outputs.Protect(settings.Input, "the input image");
   StagedPaths staged;
   staged.Image = outputs.Stage(settings.Output, "output image");
+  sic::CheckImageFileFormat(settings.Output, "output image", info.Dimension);
   if (!settings.RemovedMask.empty())
   {
     staged.RemovedMask = outputs.Stage(settings.RemovedMask, "removed-voxel mask");
+    sic::CheckImageFileFormat(settings.RemovedMask, "removed-voxel mask", info.Dimension);
   }
   const std::string stagedStats = settings.Stats.empty() ? "" : outputs.Stage(settings.Stats, "statistics");
 

@@ -85,9 +85,9 @@ Run(const sic::ToolDescription & tool, const sic::ParsedCommandLine & arguments)
   {
     path = (std::filesystem::path(path) / DefaultFileName).string();
   }
-  sic::CheckImageFileExtension(path, "phantom");
   sic::StagedOutputs outputs;
   const std::string  staged = outputs.Stage(path, "phantom");
+  sic::CheckImageFileFormat(path, "phantom", 3);
 
   const sic::PhantomImageType::Pointer phantom = sic::MakePhantom(static_cast<unsigned int>(size), seed);
   sic::WriteImage(phantom.GetPointer(), staged, path, "phantom", nullptr);

@@ -139,13 +139,24 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
 }
 
 void
-CheckImageFileExtension(const std::string & path, const std::string & what)
+CheckImageFileFormat(const std::string & path, const std::string & what, unsigned int dimension)
 {
-  if (!itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::WriteMode))
+  const itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::WriteMode);
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (!io)
   {
-    const std::string extension = std::filesystem::path(path).extension().string();
     throw ToolError("cannot write " + what + " '" + path + "': no ITK image writer handles the extension '" +
                     extension + "'; expected e.g. .nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd or .png");
+  }
+  // These writers would silently keep only the first slice of a 3-D image.
+  const std::string format = io->GetNameOfClass();
+  const bool        twoDimensional = format == "PNGImageIO" || format == "BMPImageIO" || format == "JPEGImageIO";
+  if (twoDimensional && dimension > 2)
+  {
+    throw ToolError("cannot write " + what + " '" + path + "': the " + extension +
+                    " format stores 2-D images only and the image is " + std::to_string(dimension) +
+                    "-D; expected e.g. .nrrd, .nii.gz or .mha");
   }
 }
 } // namespace sic

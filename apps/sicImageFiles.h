@@ -56,9 +56,10 @@ PixelTypeName(itk::IOComponentEnum componentType);
 std::string
 SupportedPixelTypes();
 
-/** Throws ToolError unless an ITK image writer handles \a path's extension. */
+/** Throws ToolError unless an ITK image writer handles \a path's extension and, as far as
+ * known, can store an image of \a dimension dimensions (PNG, BMP and JPEG are 2-D only). */
 void
-CheckImageFileExtension(const std::string & path, const std::string & what);
+CheckImageFileFormat(const std::string & path, const std::string & what, unsigned int dimension);
 
 /** Reads the whole image; \a observer (may be null) watches the reader's progress. */
 template <typename TImage>

@@ -1,0 +1,291 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// SmallIsoComponentCLITestProbe: the test suite's C++ helper. It makes small test images of
+// every pixel type, reads headers and voxels back, and runs the filter directly (not through
+// the tool) so that the tool's statistics can be checked against it.
+//
+//   make FILE TYPE DIMENSION   a test image (isovalue 50 gives specks and bubbles);
+//                              TYPE uint8 ... float64, or rgb for a 3-component image
+//   info FILE                  header as JSON: pixel_type, dimension, size, spacing, origin
+//   count-nonzero FILE         number of nonzero voxels
+//   equal FILE1 FILE2          exit 0 if the grids and all voxel values are the same
+//   reference FILE ISOVALUE K SIDE CONNECTIVITY
+//                              the filter's statistics as JSON, K in voxels,
+//                              SIDE above|below|both, CONNECTIVITY face|full
+
+#include "itkSmallIsoComponentImageFilter.h"
+#include "sicImageFiles.h"
+#include "sicJsonWriter.h"
+#include "sicScalarImageDispatch.h"
+
+#include "itkImageRegionConstIterator.h"
+#include "itkImageRegionIterator.h"
+#include "itkRGBPixel.h"
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+namespace
+{
+/** Background 10 with specks of 100 (1 to 3 voxels), a box of 100 with bubbles of 10. */
+template <typename TImage>
+void
+MakeImage(const std::string & path)
+{
+  constexpr unsigned int Dimension = TImage::ImageDimension;
+  auto                   image = TImage::New();
+  typename TImage::SizeType size;
+  typename TImage::SpacingType spacing;
+  typename TImage::PointType   origin;
+  const unsigned int           sizes[3] = { 24, 20, 16 };
+  const double                 spacings[3] = { 0.5, 0.75, 2.0 };
+  for (unsigned int axis = 0; axis < Dimension; ++axis)
+  {
+    size[axis] = sizes[axis];
+    spacing[axis] = spacings[axis];
+    origin[axis] = -3.0 + axis;
+  }
+  image->SetRegions(size);
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  image->Allocate();
+  image->FillBuffer(10);
+  itk::ImageRegionIterator<TImage> it(image, image->GetLargestPossibleRegion());
+  for (; !it.IsAtEnd(); ++it)
+  {
+    const auto & index = it.GetIndex();
+    bool         inBox = true;
+    for (unsigned int axis = 0; axis < Dimension; ++axis)
+    {
+      inBox = inBox && index[axis] >= 4 && index[axis] < static_cast<itk::IndexValueType>(sizes[axis]) - 4;
+    }
+    const itk::IndexValueType x = index[0];
+    const itk::IndexValueType y = index[1];
+    const bool                z = Dimension < 3 || index[Dimension - 1] % 4 == 2;
+    if (inBox)
+    {
+      // Bubbles: single voxels and pairs inside the box.
+      const bool bubble = z && ((x % 5 == 1 && y % 4 == 1) || (x % 5 == 2 && y % 4 == 1 && x < 12));
+      it.Set(bubble ? 10 : 100);
+    }
+    else if (z && ((x == 1 && y % 3 == 0) || (x == 2 && y % 6 == 0)))
+    {
+      // Specks: single voxels and pairs along the border.
+      it.Set(100);
+    }
+  }
+  sic::WriteImage(image.GetPointer(), path, path, "test image", nullptr);
+}
+
+void
+MakeRgbImage(const std::string & path)
+{
+  using ImageType = itk::Image<itk::RGBPixel<unsigned char>, 2>;
+  auto image = ImageType::New();
+  image->SetRegions(ImageType::SizeType{ { 8, 8 } });
+  image->Allocate();
+  itk::RGBPixel<unsigned char> gray;
+  gray.Fill(100);
+  image->FillBuffer(gray);
+  sic::WriteImage(image.GetPointer(), path, path, "test image", nullptr);
+}
+
+template <typename TImage>
+int
+CountNonzero(const std::string & path)
+{
+  const auto image = sic::ReadImage<TImage>(path, "image", nullptr);
+  std::uint64_t count = 0;
+  for (itk::ImageRegionConstIterator<TImage> it(image, image->GetLargestPossibleRegion()); !it.IsAtEnd(); ++it)
+  {
+    count += it.Get() != 0;
+  }
+  std::cout << count << std::endl;
+  return 0;
+}
+
+template <typename TImage>
+int
+Equal(const std::string & first, const std::string & second)
+{
+  const auto a = sic::ReadImage<TImage>(first, "image", nullptr);
+  const auto b = sic::ReadImage<TImage>(second, "image", nullptr);
+  if (a->GetLargestPossibleRegion() != b->GetLargestPossibleRegion() || a->GetSpacing() != b->GetSpacing() ||
+      a->GetOrigin() != b->GetOrigin())
+  {
+    std::cout << "different grids" << std::endl;
+    return 1;
+  }
+  itk::ImageRegionConstIterator<TImage> itA(a, a->GetLargestPossibleRegion());
+  itk::ImageRegionConstIterator<TImage> itB(b, b->GetLargestPossibleRegion());
+  for (; !itA.IsAtEnd(); ++itA, ++itB)
+  {
+    const double va = static_cast<double>(itA.Get());
+    const double vb = static_cast<double>(itB.Get());
+    if (va != vb && !(std::isnan(va) && std::isnan(vb)))
+    {
+      std::cout << "different at " << itA.GetIndex() << ": " << va << " vs " << vb << std::endl;
+      return 1;
+    }
+  }
+  std::cout << "equal" << std::endl;
+  return 0;
+}
+
+template <typename TImage>
+int
+Reference(const std::string & path, double isoValue, itk::SizeValueType k, const std::string & side, bool full)
+{
+  using FilterType = itk::SmallIsoComponentImageFilter<TImage>;
+  using SideEnum = itk::SmallIsoComponentEnums::Side;
+  auto filter = FilterType::New();
+  filter->SetInput(sic::ReadImage<TImage>(path, "image", nullptr));
+  filter->SetIsoValue(isoValue);
+  filter->SetMaximumComponentSize(k);
+  filter->SetSide(side == "above" ? SideEnum::Above : side == "below" ? SideEnum::Below : SideEnum::Both);
+  filter->SetFullyConnected(full);
+  filter->Update();
+
+  sic::JsonWriter json(std::cout);
+  json.BeginObject();
+  for (const SideEnum s : { SideEnum::Above, SideEnum::Below })
+  {
+    json.Key(s == SideEnum::Above ? "above" : "below").BeginObject();
+    json.Key("components").Number(static_cast<std::uint64_t>(filter->GetNumberOfComponents(s)));
+    json.Key("removed_components").Number(static_cast<std::uint64_t>(filter->GetNumberOfRemovedComponents(s)));
+    json.Key("removed_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfRemovedVoxels(s)));
+    json.Key("size_histogram").BeginArray();
+    for (const auto & [size, count] : filter->GetComponentSizeHistogram(s))
+    {
+      json.BeginArray().Number(static_cast<std::uint64_t>(size)).Number(static_cast<std::uint64_t>(count)).EndArray();
+    }
+    json.EndArray().EndObject();
+  }
+  json.Key("modified_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfModifiedVoxels()));
+  json.Key("unrepairable_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfUnrepairableVoxels()));
+  json.Key("effective_max_size").Number(static_cast<std::uint64_t>(filter->GetEffectiveMaximumComponentSize()));
+  json.EndObject();
+  json.Finish();
+  return 0;
+}
+
+itk::IOComponentEnum
+ComponentTypeNamed(const std::string & name)
+{
+  for (const auto type : { itk::IOComponentEnum::UCHAR,
+                           itk::IOComponentEnum::CHAR,
+                           itk::IOComponentEnum::USHORT,
+                           itk::IOComponentEnum::SHORT,
+                           itk::IOComponentEnum::UINT,
+                           itk::IOComponentEnum::INT,
+                           itk::IOComponentEnum::FLOAT,
+                           itk::IOComponentEnum::DOUBLE })
+  {
+    if (sic::PixelTypeName(type) == name)
+    {
+      return type;
+    }
+  }
+  throw sic::ToolError("unknown pixel type " + name);
+}
+
+int
+Probe(int argc, char * argv[])
+{
+  const std::string command = argc > 1 ? argv[1] : "";
+  if (command == "make" && argc == 5 && std::string(argv[3]) == "rgb")
+  {
+    MakeRgbImage(argv[2]);
+    return 0;
+  }
+  if (command == "make" && argc == 5)
+  {
+    sic::ScalarImageInfo info;
+    info.ComponentType = ComponentTypeNamed(argv[3]);
+    info.Dimension = static_cast<unsigned int>(std::stoul(argv[4]));
+    sic::DispatchScalarImage(info, [&](auto tag) {
+      MakeImage<typename decltype(tag)::ImageType>(argv[2]);
+      return 0;
+    });
+    return 0;
+  }
+  if (command == "info" && argc == 3)
+  {
+    const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(argv[2], "image");
+    sic::JsonWriter            json(std::cout);
+    json.BeginObject();
+    json.Key("pixel_type").String(sic::PixelTypeName(info.ComponentType));
+    json.Key("dimension").Number(static_cast<std::uint64_t>(info.Dimension));
+    json.Key("size").BeginArray();
+    for (const auto size : info.Size)
+    {
+      json.Number(static_cast<std::uint64_t>(size));
+    }
+    json.EndArray().Key("spacing").BeginArray();
+    for (const double spacing : info.Spacing)
+    {
+      json.Number(spacing);
+    }
+    json.EndArray().Key("origin").BeginArray();
+    for (const double origin : info.Origin)
+    {
+      json.Number(origin);
+    }
+    json.EndArray().EndObject();
+    json.Finish();
+    return 0;
+  }
+  if (command == "count-nonzero" && argc == 3)
+  {
+    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"), [&](auto tag) {
+      return CountNonzero<typename decltype(tag)::ImageType>(argv[2]);
+    });
+  }
+  if (command == "equal" && argc == 4)
+  {
+    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"), [&](auto tag) {
+      return Equal<typename decltype(tag)::ImageType>(argv[2], argv[3]);
+    });
+  }
+  if (command == "reference" && argc == 7)
+  {
+    const std::string file = argv[2];
+    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(file, "image"), [&](auto tag) {
+      return Reference<typename decltype(tag)::ImageType>(
+        file, std::stod(argv[3]), std::stoul(argv[4]), argv[5], std::string(argv[6]) == "full");
+    });
+  }
+  std::cerr << "usage: see the comment at the top of SmallIsoComponentCLITestProbe.cxx" << std::endl;
+  return 2;
+}
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  try
+  {
+    return Probe(argc, argv);
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << "SmallIsoComponentCLITestProbe: " << error.what() << std::endl;
+    return 2;
+  }
+}
