@@ -33,6 +33,7 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace
 {
@@ -97,7 +98,7 @@ DescribeTool()
   Option maxSize{ "--max-size",
                   "K",
                   "The largest component removed, in voxels: components of at most K voxels are small. 0 removes "
-                  "nothing.",
+                  "nothing (unless --max-volume is given).",
                   "20 voxels, unless --max-volume is given",
                   parameter("integer", "maxSize", "Maximum size (voxels)", "Parameters") };
   maxSize.Slicer.Default = "20";
@@ -107,8 +108,9 @@ DescribeTool()
                     "V",
                     "The largest component removed, as a physical volume in mm³ (the image's spacing units "
                     "cubed): a component is small when its voxel count times the voxel volume is at most V, so "
-                    "K = floor(V / voxel volume). Give --max-size or --max-volume, not both; a value of 0 leaves "
-                    "either unused (in Slicer, set the maximum size to 0 to use the maximum volume).",
+                    "K = floor(V / voxel volume). Give --max-size or --max-volume, not both. As Slicer passes "
+                    "both, a 0 does not count as given: --max-volume 0 leaves the volume unused, and --max-size 0 "
+                    "lets --max-volume decide (in Slicer, set the maximum size to 0 to use the maximum volume).",
                     "unused",
                     parameter("double", "maxVolume", "Maximum volume (mm³)", "Parameters") };
   maxVolume.Slicer.Default = "0";
@@ -181,17 +183,19 @@ DescribeTool()
   };
 
   tool.Epilogue =
-    "While it works, the tool shows progress on stderr (a bar on a terminal, a line per stage otherwise), then\n"
-    "prints a one-paragraph summary on stdout. The output image, the mask and the statistics appear together,\n"
-    "only after all of them were written; after a failure none of them exists.\n"
+    "While it works, the tool shows progress on stderr (a bar on a terminal, a line per\n"
+    "stage otherwise), then prints a one-paragraph summary on stdout. The output image,\n"
+    "the mask and the statistics appear together, once all of them were written; after\n"
+    "a failure none of them is written or changed.\n"
     "\n"
     "Exit status:\n"
     "  0  success\n"
     "  1  the processing failed (e.g. out of memory)\n"
-    "  2  a wrong command line, an unreadable or unsupported input, or an output that cannot be\n"
-    "     written; one line on stderr says what was wrong and what was expected\n"
+    "  2  a wrong command line, an unreadable or unsupported input, or an output that\n"
+    "     cannot be written; one line on stderr says what was wrong and what was expected\n"
     "\n"
-    "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a mask and statistics:\n"
+    "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a\n"
+    "mask of the changed voxels and the statistics:\n"
     "  SmallIsoComponentFilter ct.nrrd ct-clean.nrrd --isovalue 150 --max-size 20 \\\n"
     "      --removed-mask removed.nrrd --stats stats.json\n";
 
@@ -376,9 +380,11 @@ Run(const sic::FilterSettings & settings)
   {
     itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(static_cast<itk::ThreadIdType>(settings.Threads));
   }
-  sic::ProgressReporter progress(sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml),
-                                 ToolName,
-                                 "Removing small components at isovalue " + std::to_string(settings.IsoValue));
+  std::ostringstream comment;
+  comment << "Removing components of at most " << (settings.UsesVolume() ? "the maximum volume" : "K voxels")
+          << " at isovalue " << settings.IsoValue;
+  sic::ProgressReporter progress(
+    sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml), ToolName, comment.str());
   sic::FilterReport report = sic::DispatchScalarImage(
     info, [&](auto tag) { return FilterImage<typename decltype(tag)::ImageType>(settings, staged, progress); });
   report.Input = info;

@@ -162,7 +162,10 @@ SlicerDescriptionXml(const ToolDescription & tool)
   out << "  <title>" << Escaped(tool.Title) << "</title>\n";
   out << "  <description>" << Escaped(tool.Description) << "</description>\n";
   out << "  <version>" << Escaped(tool.Version) << "</version>\n";
-  out << "  <documentation-url>" << Escaped(tool.DocumentationUrl) << "</documentation-url>\n";
+  if (!tool.DocumentationUrl.empty())
+  {
+    out << "  <documentation-url>" << Escaped(tool.DocumentationUrl) << "</documentation-url>\n";
+  }
   out << "  <license>" << Escaped(tool.License) << "</license>\n";
   out << "  <contributor>" << Escaped(tool.Contributor) << "</contributor>\n";
   out << "  <acknowledgements>" << Escaped(tool.Acknowledgements) << "</acknowledgements>\n";

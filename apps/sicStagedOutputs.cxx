@@ -103,7 +103,7 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
   if (!fs::exists(directory, error))
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": the directory " +
-                    Quoted(directory) + " does not exist");
+                    Quoted(directory) + " does not exist; expected a path in an existing directory");
   }
   if (!fs::is_directory(directory, error))
   {

@@ -13,6 +13,7 @@ import hashlib
 import json
 import math
 import os
+import pty
 import shutil
 import subprocess
 import sys
@@ -234,6 +235,35 @@ class SmallIsoComponentCLITest(unittest.TestCase):
         quiet = self.check(run(FILTER, phantom, self.path("quiet.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--quiet"))
         self.assertEqual(quiet.stdout, "")
         self.assertEqual(quiet.stderr, "")
+
+    def test_progress_bar_on_a_terminal(self):
+        phantom = self.make_phantom()
+        controller, terminal = pty.openpty()
+        try:
+            result = subprocess.run([FILTER, phantom, self.path("out.nrrd"), "--isovalue", PHANTOM_ISOVALUE],
+                                    stdout=subprocess.PIPE, stderr=terminal, text=True, timeout=300)
+            os.close(terminal)
+            terminal = None
+            shown = b""
+            while True:
+                try:
+                    chunk = os.read(controller, 65536)
+                except OSError:  # the terminal's other end is closed: all was read
+                    break
+                if not chunk:
+                    break
+                shown += chunk
+        finally:
+            if terminal is not None:
+                os.close(terminal)
+            os.close(controller)
+        self.assertEqual(result.returncode, 0)
+        shown = shown.decode()
+        self.assertIn("\r", shown)
+        self.assertIn("] 100%", shown)
+        self.assertIn("[" + "#" * 30 + "]", shown)
+        self.assertTrue(shown.endswith("\r\x1b[K"), repr(shown[-40:]))  # the bar is cleared at the end
+        self.assertIn("above components", result.stdout)
 
     def test_progress_xml_lines(self):
         phantom = self.make_phantom()
