@@ -27,6 +27,7 @@
 #  include <emmintrin.h>
 #endif
 #include <limits>
+#include <numeric>
 
 namespace itk
 {
@@ -491,19 +492,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
   const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow : threshold.LowestAbove;
 
-  // The removed runs, and where each one's new values start.
   const std::vector<SmallIsoComponentRunLabeling::LineRun> runs =
     labeling.CollectRuns(removedComponent, this->GetMultiThreader());
   if (runs.empty())
   {
     return 0;
   }
-  std::vector<SizeValueType> firstValue(runs.size() + 1, 0);
-  for (SizeValueType i = 0; i < runs.size(); ++i)
-  {
-    firstValue[i + 1] = firstValue[i] + labeling.GetRunEnd(runs[i].Run, runs[i].Line) - labeling.GetRunStart(runs[i].Run);
-  }
-  const SizeValueType numberOfValues = firstValue.back();
 
   const SizeValueType        dimension = ImageDimension;
   const auto &               size = output->GetBufferedRegion().GetSize();
@@ -515,17 +509,19 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   OutputPixelType * buffer = output->GetBufferPointer();
   const auto        sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
 
-  // New values are computed before any is written: walks read the values before the pass.
-  std::vector<OutputPixelType> values(numberOfValues);
-  const SizeValueType          chunks = std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
-  std::vector<SizeValueType>   unrepairable(chunks, 0);
+  // New values are computed, in chunks of runs, before any is written: walks read the
+  // values before the pass.
+  const SizeValueType chunks = std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
+  const auto          chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
+  std::vector<std::vector<OutputPixelType>> values(chunks);
+  std::vector<SizeValueType>                unrepairable(chunks, 0);
   this->GetMultiThreader()->ParallelizeArray(
     0,
     chunks,
     [&](SizeValueType chunk) {
       std::vector<SizeValueType> coordinates;
       const SizeValueType        length = size[0];
-      for (SizeValueType i = chunk * runs.size() / chunks; i < (chunk + 1) * runs.size() / chunks; ++i)
+      for (SizeValueType i = chunkBegin(chunk); i < chunkBegin(chunk + 1); ++i)
       {
         const auto & removed = runs[i];
         labeling.LineCoordinates(removed.Line, coordinates);
@@ -585,14 +581,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
               }
             }
           }
-          OutputPixelType & value = values[firstValue[i] + (x - start)];
           if (found > 0)
           {
-            value = MeanToPixel<OutputPixelType>(sum / found);
+            values[chunk].push_back(MeanToPixel<OutputPixelType>(sum / found));
           }
           else
           {
-            value = fallback;
+            values[chunk].push_back(fallback);
             ++unrepairable[chunk];
           }
         }
@@ -600,16 +595,29 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
     },
     nullptr);
 
-  MaskPixelType * maskBuffer = mask->GetBufferPointer();
-  SizeValueType   newlyModified = 0;
-  for (SizeValueType i = 0; i < runs.size(); ++i)
+  MaskPixelType *            maskBuffer = mask->GetBufferPointer();
+  std::vector<SizeValueType> newlyModified(chunks, 0);
+  SizeValueType              valueBytes = 0;
+  for (const auto & chunkValues : values)
   {
-    const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
-    const SizeValueType count = firstValue[i + 1] - firstValue[i];
-    std::copy(values.begin() + firstValue[i], values.begin() + firstValue[i + 1], buffer + first);
-    newlyModified += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
-    std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
+    valueBytes += chunkValues.capacity() * sizeof(OutputPixelType);
   }
+  this->GetMultiThreader()->ParallelizeArray(
+    0,
+    chunks,
+    [&](SizeValueType chunk) {
+      auto value = values[chunk].cbegin();
+      for (SizeValueType i = chunkBegin(chunk); i < chunkBegin(chunk + 1); ++i)
+      {
+        const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
+        const SizeValueType count = labeling.GetRunEnd(runs[i].Run, runs[i].Line) - labeling.GetRunStart(runs[i].Run);
+        std::copy(value, value + count, buffer + first);
+        value += count;
+        newlyModified[chunk] += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
+        std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
+      }
+    },
+    nullptr);
   for (const SizeValueType u : unrepairable)
   {
     m_NumberOfUnrepairableVoxels += u;
@@ -617,9 +625,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   m_PeakExtraMemoryInBytes =
     std::max(m_PeakExtraMemoryInBytes,
              labeling.GetMemoryInBytes() + removedComponent.capacity() +
-               runs.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) +
-               firstValue.capacity() * sizeof(SizeValueType) + values.capacity() * sizeof(OutputPixelType));
-  return newlyModified;
+               runs.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) + valueBytes);
+  return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
 }
 
 template <typename TInputImage, typename TOutputImage>

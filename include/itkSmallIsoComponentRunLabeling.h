@@ -180,11 +180,11 @@ public:
                  std::vector<SizeValueType> &      groupSize,
                  MultiThreaderBase *               threader) const;
 
-  /** A run and its line. */
+  /** A run and its line (lines are fewer than runs, so both fit the run index type). */
   struct LineRun
   {
-    SizeValueType Run;
-    SizeValueType Line;
+    RunIndexType Run;
+    RunIndexType Line;
   };
   /** The runs whose component is flagged in \a selected (one flag per component), in
    * run order; the slabs are scanned in parallel. */

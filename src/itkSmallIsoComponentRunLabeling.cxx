@@ -358,7 +358,7 @@ SmallIsoComponentRunLabeling::CollectRuns(const std::vector<uint8_t> & selected,
         {
           if (selected[m_RunLabel[run]])
           {
-            perSlab[slab].push_back({ run, line });
+            perSlab[slab].push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
           }
         }
       }
