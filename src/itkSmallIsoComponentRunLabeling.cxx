@@ -191,36 +191,54 @@ SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB
   const SizeValueType bBegin = m_LineRunBegin[lineB];
   const SizeValueType bEnd = m_LineRunBegin[lineB + 1];
   bool                aboveA = m_LineFirstAbove[lineA] != 0;
-  const bool          firstAboveB = m_LineFirstAbove[lineB] != 0;
-  if (aEnd - aBegin == 1 && bEnd - bBegin == 1)
-  {
-    if (aboveA == firstAboveB)
-    {
-      this->Union(static_cast<RunIndexType>(aBegin), static_cast<RunIndexType>(bBegin));
-    }
-    return;
-  }
-  // Runs of the same side touch when their x ranges overlap, or, with full
-  // connectivity, when they are diagonal neighbours (one voxel of allowance).
-  const SizeValueType          allowance = m_FullyConnected ? 1 : 0;
-  const SizeValueType          length = m_Size[0];
+  bool                aboveB = m_LineFirstAbove[lineB] != 0;
+  // The runs of each line partition [0, length), so one merge visits every overlapping
+  // pair once: same-side pairs that overlap touch. With full connectivity runs also touch
+  // diagonally where both end at the same x: then the run after each one meets the
+  // other, and those pairs are on the same side exactly when the pair itself is not.
   const CoordinateType * const start = m_RunStart.get();
-  SizeValueType                b = bBegin;
-  for (SizeValueType a = aBegin; a < aEnd; ++a, aboveA = !aboveA)
+  const auto                   end = [this, start](SizeValueType run, SizeValueType lineEnd) {
+    return run + 1 < lineEnd ? SizeValueType{ start[run + 1] } : m_Size[0];
+  };
+  SizeValueType a = aBegin;
+  SizeValueType b = bBegin;
+  SizeValueType endA = end(a, aEnd);
+  SizeValueType endB = end(b, bEnd);
+  while (true)
   {
-    const SizeValueType startA = start[a];
-    const SizeValueType endA = a + 1 < aEnd ? start[a + 1] : length;
-    while (b + 1 < bEnd && start[b + 1] + allowance <= startA)
+    if (aboveA == aboveB)
+    {
+      this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(b));
+    }
+    if (endA < endB)
+    {
+      ++a;
+      aboveA = !aboveA;
+      endA = end(a, aEnd);
+    }
+    else if (endB < endA)
     {
       ++b;
+      aboveB = !aboveB;
+      endB = end(b, bEnd);
     }
-    bool aboveK = firstAboveB != (((b - bBegin) & 1) != 0);
-    for (SizeValueType k = b; k < bEnd && start[k] < endA + allowance; ++k, aboveK = !aboveK)
+    else
     {
-      if (aboveK == aboveA)
+      if (a + 1 == aEnd || b + 1 == bEnd)
       {
-        this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(k));
+        return;
       }
+      if (m_FullyConnected && aboveA != aboveB)
+      {
+        this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(b + 1));
+        this->Union(static_cast<RunIndexType>(a + 1), static_cast<RunIndexType>(b));
+      }
+      ++a;
+      ++b;
+      aboveA = !aboveA;
+      aboveB = !aboveB;
+      endA = end(a, aEnd);
+      endB = end(b, bEnd);
     }
   }
 }
