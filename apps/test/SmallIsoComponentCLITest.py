@@ -197,6 +197,16 @@ class SmallIsoComponentCLITest(unittest.TestCase):
         for key in ("modified_voxels", "unrepairable_voxels", "seconds", "peak_extra_bytes"):
             self.assertGreaterEqual(statistics[key], 0, key)
 
+    def test_json_numbers_are_exact_and_never_nan(self):
+        text = self.check(run(PROBE, "json-sample")).stdout
+        document = json.loads(text, parse_constant=reject_constant)
+        self.assertIsNone(document["nan"])
+        self.assertEqual(document["infinities"], [None, None])
+        self.assertEqual(document["doubles"], [0.1, 1 / 3, 2 / 3 * 1e300, 5e-324, -0.0, 150, 0.6400000000000001])
+        self.assertEqual(document["integers"], [2**64 - 1, -2**63])
+        self.assertEqual(document['text "quoted"'], "back\\slash, tab\t, newline\n, bell\a, mm³")
+        self.assertEqual(document["nested"], [[1, 2], {"empty": []}])
+
     def test_max_volume_in_cubic_millimetres(self):
         phantom = self.make_phantom()
         stats = self.path("stats.json")

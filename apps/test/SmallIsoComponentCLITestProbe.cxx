@@ -24,6 +24,8 @@
 //   info FILE                  header as JSON: pixel_type, dimension, size, spacing, origin
 //   count-nonzero FILE         number of nonzero voxels
 //   equal FILE1 FILE2          exit 0 if the grids and all voxel values are the same
+//   json-sample                awkward values through sic::JsonWriter (NaN, infinities,
+//                              doubles that need 17 digits, 64-bit integers, escapes)
 //   reference FILE ISOVALUE K SIDE CONNECTIVITY
 //                              the filter's statistics as JSON, K in voxels,
 //                              SIDE above|below|both, CONNECTIVITY face|full
@@ -39,6 +41,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <string>
 
 namespace
@@ -262,6 +265,31 @@ Probe(int argc, char * argv[])
     return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"), [&](auto tag) {
       return Equal<typename decltype(tag)::ImageType>(argv[2], argv[3]);
     });
+  }
+  if (command == "json-sample" && argc == 2)
+  {
+    sic::JsonWriter json(std::cout);
+    json.BeginObject();
+    json.Key("nan").Number(std::nan(""));
+    json.Key("infinities").BeginArray();
+    json.Number(HUGE_VAL).Number(-HUGE_VAL).EndArray();
+    json.Key("doubles").BeginArray();
+    for (const double value : { 0.1, 1.0 / 3.0, 2.0 / 3.0 * 1e300, 5e-324, -0.0, 150.0, 0.6400000000000001 })
+    {
+      json.Number(value);
+    }
+    json.EndArray();
+    json.Key("integers").BeginArray();
+    json.Number(std::numeric_limits<std::uint64_t>::max()).Number(std::numeric_limits<std::int64_t>::min());
+    json.EndArray();
+    json.Key("text \"quoted\"").String("back\\slash, tab\t, newline\n, bell\a, mm³");
+    json.Key("nested").BeginArray();
+    json.BeginArray().Number(std::uint64_t{ 1 }).Number(std::uint64_t{ 2 }).EndArray();
+    json.BeginObject().Key("empty").BeginArray().EndArray().EndObject();
+    json.EndArray();
+    json.EndObject();
+    json.Finish();
+    return 0;
   }
   if (command == "reference" && argc == 7)
   {
