@@ -32,7 +32,7 @@ constexpr unsigned int MaximumReportedFailures = 3;
 
 template <typename TInputPixel, typename TOutputPixel, unsigned int VDimension>
 void
-ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes)
+ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, bool large = false)
 {
   using InputImageType = itk::Image<TInputPixel, VDimension>;
   using OutputImageType = itk::Image<TOutputPixel, VDimension>;
@@ -46,7 +46,7 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes)
   unsigned int failures = 0;
   for (uint32_t seed = firstSeed; seed < firstSeed + numberOfVolumes && failures < MaximumReportedFailures; ++seed)
   {
-    const auto c = MakeRandomCase<TInputPixel, TOutputPixel, VDimension>(seed);
+    const auto c = MakeRandomCase<TInputPixel, TOutputPixel, VDimension>(seed, large);
     const auto expected = Reference::Run<TOutputPixel>(c.Input.GetPointer(), c.Settings);
     ++volumes;
     withRemovedAbove += expected.Above.RemovedComponents > 0 ? 1 : 0;
@@ -125,4 +125,15 @@ TEST(SmallIsoComponentDifferential, Int16ToFloat2D)
 TEST(SmallIsoComponentDifferential, Int16ToFloat3D)
 {
   ExpectFilterMatchesReference<int16_t, float, 3>(10000, 160);
+}
+
+TEST(SmallIsoComponentDifferential, LargeUInt8Image3D)
+{
+  // Every extent 20 to 40: many slabs per work unit count, long walks, big components.
+  ExpectFilterMatchesReference<uint8_t, uint8_t, 3>(11000, 40, true);
+}
+
+TEST(SmallIsoComponentDifferential, LargeFloatImageWithNaN3D)
+{
+  ExpectFilterMatchesReference<float, float, 3>(12000, 40, true);
 }
