@@ -70,8 +70,8 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
             << " with unrepairable voxels" << std::endl;
   if (failures == 0)
   {
-    EXPECT_GT(withRemovedAbove, numberOfVolumes / 5);
-    EXPECT_GT(withRemovedBelow, numberOfVolumes / 5);
+    EXPECT_GT(withRemovedAbove, numberOfVolumes / 8);
+    EXPECT_GT(withRemovedBelow, numberOfVolumes / 8);
     EXPECT_GT(withUnrepairable, 0u);
   }
 }
