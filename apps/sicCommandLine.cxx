@@ -100,6 +100,13 @@ ParsedCommandLine::Value(const std::string & flag) const
   return found == m_Options.end() ? std::string() : found->second;
 }
 
+std::vector<std::string>
+ParsedCommandLine::Values(const std::string & flag) const
+{
+  const auto found = m_AllValues.find(flag);
+  return found == m_AllValues.end() ? std::vector<std::string>() : found->second;
+}
+
 ParsedCommandLine
 ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[])
 {
@@ -134,7 +141,9 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
                                   : ""));
     }
     flag = option->Flag;
-    if (parsed.Has(flag))
+    const bool repeatable =
+      std::find(tool.RepeatableOptions.begin(), tool.RepeatableOptions.end(), flag) != tool.RepeatableOptions.end();
+    if (parsed.Has(flag) && !repeatable)
     {
       throw ToolError(flag + " is given twice; give it once");
     }
@@ -146,13 +155,11 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
       }
       parsed.m_Options[flag];
     }
-    else if (equals != std::string::npos)
+    else if (equals != std::string::npos || i + 1 < argc)
     {
-      parsed.m_Options[flag] = argument.substr(equals + 1);
-    }
-    else if (i + 1 < argc)
-    {
-      parsed.m_Options[flag] = argv[++i];
+      const std::string value = equals != std::string::npos ? argument.substr(equals + 1) : std::string(argv[++i]);
+      parsed.m_Options[flag] = value;
+      parsed.m_AllValues[flag].push_back(value);
     }
     else
     {

@@ -85,6 +85,9 @@ struct ToolDescription
   std::vector<Option>     Options;
   /** Text after the options in --help: exit codes, examples. */
   std::string Epilogue;
+  /** Options that may be given more than once (e.g. "--isovalue"); see
+   * ParsedCommandLine::Values(). Any other option given twice is an error. */
+  std::vector<std::string> RepeatableOptions;
 
   /** For the Slicer description. */
   std::string Category;
@@ -106,6 +109,9 @@ public:
   /** The option's value; empty for a switch or an option that was not given. */
   std::string
   Value(const std::string & flag) const;
+  /** Every value of the option, in the order given; empty when it was not given. */
+  std::vector<std::string>
+  Values(const std::string & flag) const;
   const std::vector<std::string> &
   Positionals() const
   {
@@ -117,6 +123,7 @@ private:
   ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[]);
 
   std::map<std::string, std::string> m_Options;
+  std::map<std::string, std::vector<std::string>> m_AllValues;
   std::vector<std::string>           m_Positionals;
 };
 

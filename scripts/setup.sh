@@ -11,6 +11,7 @@ packages=(
   libinsighttoolkit5-dev  # ITK 5.2.1
   libgtest-dev            # GoogleTest
   python3                 # test helpers (XML and JSON checks)
+  gnuplot-nox             # SmallIsoComponentReport --plot
 )
 
 missing=()

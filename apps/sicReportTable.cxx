@@ -1,0 +1,190 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicReportTable.h"
+
+#include "sicJsonWriter.h"
+
+#include <charconv>
+#include <cstdio>
+
+namespace sic
+{
+namespace
+{
+std::string
+PercentText(std::uint64_t removed, std::uint64_t total)
+{
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.2f", Percent(removed, total));
+  return text;
+}
+
+/** A CSV field, quoted when it holds a comma, a quote or a line break. */
+std::string
+CsvField(const std::string & text)
+{
+  if (text.find_first_of(",\"\r\n") == std::string::npos)
+  {
+    return text;
+  }
+  std::string quoted = "\"";
+  for (const char c : text)
+  {
+    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  }
+  return quoted + "\"";
+}
+
+void
+WriteSideJson(JsonWriter & json, const SideRow & side, const std::vector<std::uint64_t> & maximumSizes)
+{
+  json.BeginObject().Key("components").Number(side.Components).Key("by_size").BeginArray();
+  for (size_t k = 0; k < maximumSizes.size(); ++k)
+  {
+    json.BeginObject()
+      .Key("max_size")
+      .Number(maximumSizes[k])
+      .Key("removed_components")
+      .Number(side.RemovedComponents[k])
+      .Key("modified_voxels")
+      .Number(side.ModifiedVoxels[k])
+      .EndObject();
+  }
+  json.EndArray().EndObject();
+}
+} // namespace
+
+SideRow
+SummarizeSide(const SideHistogram & histogram, const std::vector<std::uint64_t> & maximumSizes)
+{
+  SideRow       row;
+  std::uint64_t components = 0;
+  std::uint64_t voxels = 0;
+  std::uint64_t size = 0;
+  row.Components = histogram.Components;
+  for (const std::uint64_t k : maximumSizes)
+  {
+    for (; size <= k && size < histogram.CountOfSize.size(); ++size)
+    {
+      components += histogram.CountOfSize[size];
+      voxels += size * histogram.CountOfSize[size];
+    }
+    row.RemovedComponents.push_back(components);
+    row.ModifiedVoxels.push_back(voxels);
+  }
+  return row;
+}
+
+double
+Percent(std::uint64_t removed, std::uint64_t total)
+{
+  return total == 0 ? 0.0 : 100.0 * static_cast<double>(removed) / static_cast<double>(total);
+}
+
+std::string
+NumberText(double value)
+{
+  char       text[64];
+  const auto result = std::to_chars(text, text + sizeof(text), value);
+  return std::string(text, result.ptr);
+}
+
+void
+WriteReportMarkdown(std::ostream & stream, const Report & report)
+{
+  std::uint64_t voxels = 1;
+  std::string   size;
+  for (const std::uint64_t extent : report.Size)
+  {
+    voxels *= extent;
+    size += (size.empty() ? "" : " × ") + std::to_string(extent);
+  }
+  stream << "# Small iso-components of " << report.Input << "\n\n"
+         << size << " voxels (" << voxels << "), "
+         << (report.FullyConnected ? "full connectivity" : "face connectivity")
+         << ". For each isovalue S and maximum size K: the components of each side (above: >= S, below: < S) "
+            "with at most K voxels, the percentage they are of all components (above + below), and the voxels "
+            "in them. Active cubes are the grid cells with corners on both sides of S.\n\n"
+         << "| isovalue | active cubes | components | above | below | K | above removed | above % | above voxels "
+            "| below removed | below % | below voxels |\n"
+         << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const ReportRow & row : report.Rows)
+  {
+    const std::uint64_t total = row.TotalComponents();
+    for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+    {
+      stream << "| " << NumberText(row.IsoValue) << " | " << row.ActiveCubes << " | " << total << " | "
+             << row.Above.Components << " | " << row.Below.Components << " | " << report.MaximumSizes[k] << " | "
+             << row.Above.RemovedComponents[k] << " | " << PercentText(row.Above.RemovedComponents[k], total)
+             << " | " << row.Above.ModifiedVoxels[k] << " | " << row.Below.RemovedComponents[k] << " | "
+             << PercentText(row.Below.RemovedComponents[k], total) << " | " << row.Below.ModifiedVoxels[k]
+             << " |\n";
+    }
+  }
+}
+
+void
+WriteReportCsv(std::ostream & stream, const Report & report)
+{
+  stream << "input,connectivity,isovalue,active_cubes,total_components,side,components,max_size,"
+            "removed_components,removed_percent,modified_voxels\n";
+  const std::string prefix =
+    CsvField(report.Input) + "," + (report.FullyConnected ? "full" : "face") + ",";
+  for (const ReportRow & row : report.Rows)
+  {
+    const std::uint64_t total = row.TotalComponents();
+    for (const auto & [name, side] : { std::make_pair("above", &row.Above), std::make_pair("below", &row.Below) })
+    {
+      for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+      {
+        stream << prefix << NumberText(row.IsoValue) << ',' << row.ActiveCubes << ',' << total << ',' << name << ','
+               << side->Components << ',' << report.MaximumSizes[k] << ',' << side->RemovedComponents[k] << ','
+               << NumberText(Percent(side->RemovedComponents[k], total)) << ',' << side->ModifiedVoxels[k] << '\n';
+      }
+    }
+  }
+}
+
+void
+WriteReportJson(std::ostream & stream, const Report & report)
+{
+  JsonWriter json(stream);
+  json.BeginObject().Key("input").String(report.Input).Key("size").BeginArray();
+  for (const std::uint64_t extent : report.Size)
+  {
+    json.Number(extent);
+  }
+  json.EndArray().Key("connectivity").String(report.FullyConnected ? "full" : "face").Key("rows").BeginArray();
+  for (const ReportRow & row : report.Rows)
+  {
+    json.BeginObject()
+      .Key("isovalue")
+      .Number(row.IsoValue)
+      .Key("active_cubes")
+      .Number(row.ActiveCubes)
+      .Key("total_components")
+      .Number(row.TotalComponents())
+      .Key("above");
+    WriteSideJson(json, row.Above, report.MaximumSizes);
+    json.Key("below");
+    WriteSideJson(json, row.Below, report.MaximumSizes);
+    json.EndObject();
+  }
+  json.EndArray().EndObject().Finish();
+}
+} // namespace sic

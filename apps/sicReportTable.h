@@ -1,0 +1,96 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef sicReportTable_h
+#define sicReportTable_h
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace sic
+{
+/** The components of one side of an isovalue, as a labelling gives them. */
+struct SideHistogram
+{
+  std::uint64_t Components{ 0 };
+  /** CountOfSize[s]: the number of components of exactly s voxels, for s up to the largest
+   * size the report asks about (larger components only count in Components). */
+  std::vector<std::uint64_t> CountOfSize;
+};
+
+/** One side's numbers in a row of the report, for every maximum size K. */
+struct SideRow
+{
+  std::uint64_t Components{ 0 };
+  /** Per K: the components of <= K voxels, and their voxels. */
+  std::vector<std::uint64_t> RemovedComponents;
+  std::vector<std::uint64_t> ModifiedVoxels;
+};
+
+struct ReportRow
+{
+  double        IsoValue{ 0.0 };
+  std::uint64_t ActiveCubes{ 0 };
+  SideRow       Above;
+  SideRow       Below;
+
+  std::uint64_t
+  TotalComponents() const
+  {
+    return Above.Components + Below.Components;
+  }
+};
+
+/** What SmallIsoComponentReport reports about one image. */
+struct Report
+{
+  std::string                Input;
+  std::vector<std::uint64_t> Size;
+  bool                       FullyConnected{ false };
+  /** The maximum sizes K, ascending. */
+  std::vector<std::uint64_t> MaximumSizes;
+  /** One row per isovalue, ascending. */
+  std::vector<ReportRow> Rows;
+};
+
+/** The removal counts for every K of \a maximumSizes (ascending) from a side's histogram. */
+SideRow
+SummarizeSide(const SideHistogram & histogram, const std::vector<std::uint64_t> & maximumSizes);
+
+/** removed as a percentage of total (0 when total is 0). */
+double
+Percent(std::uint64_t removed, std::uint64_t total);
+
+/** The shortest decimal text that reads back as \a value. */
+std::string
+NumberText(double value);
+
+/** A heading, a sentence on the image, then one table row per isovalue and K. */
+void
+WriteReportMarkdown(std::ostream & stream, const Report & report);
+
+/** One line per isovalue, side and K, under a header line. */
+void
+WriteReportCsv(std::ostream & stream, const Report & report);
+
+void
+WriteReportJson(std::ostream & stream, const Report & report);
+} // namespace sic
+
+#endif
