@@ -19,63 +19,9 @@
 // The filter against the brute-force reference on seeded random volumes: every output
 // bit, every mask voxel and every statistic must agree, for 1, 2 and 7 work units.
 
-#include "itkSmallIsoComponentTestUtilities.h"
-#include "gtest/gtest.h"
-#include <iostream>
+#include "itkSmallIsoComponentDifferential.h"
 
-namespace
-{
-using namespace itk::SmallIsoComponentTest;
-
-/** Stop a test after this many failing volumes: the first ones tell the story. */
-constexpr unsigned int MaximumReportedFailures = 3;
-
-template <typename TInputPixel, typename TOutputPixel, unsigned int VDimension>
-void
-ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, bool large = false)
-{
-  using InputImageType = itk::Image<TInputPixel, VDimension>;
-  using OutputImageType = itk::Image<TOutputPixel, VDimension>;
-
-  // What the volumes exercised, so that a generator that stopped producing removals
-  // cannot leave the comparison vacuous.
-  unsigned int volumes = 0;
-  unsigned int withRemovedAbove = 0;
-  unsigned int withRemovedBelow = 0;
-  unsigned int withUnrepairable = 0;
-  unsigned int failures = 0;
-  for (uint32_t seed = firstSeed; seed < firstSeed + numberOfVolumes && failures < MaximumReportedFailures; ++seed)
-  {
-    const auto c = MakeRandomCase<TInputPixel, TOutputPixel, VDimension>(seed, large);
-    const auto expected = Reference::Run<TOutputPixel>(c.Input.GetPointer(), c.Settings);
-    ++volumes;
-    withRemovedAbove += expected.Above.RemovedComponents > 0 ? 1 : 0;
-    withRemovedBelow += expected.Below.RemovedComponents > 0 ? 1 : 0;
-    withUnrepairable += expected.UnrepairableVoxels > 0 ? 1 : 0;
-    for (const unsigned int workUnits : { 1u, 2u, 7u })
-    {
-      const auto filter = RunFilter<InputImageType, OutputImageType>(c.Input, c.Settings, workUnits);
-      const std::string differences =
-        DifferencesFromReference(filter.GetPointer(), expected, c.Settings.MaximumComponentSize);
-      if (!differences.empty())
-      {
-        ADD_FAILURE() << c.Description << " workUnits=" << workUnits << ":" << differences;
-        ++failures;
-        break;
-      }
-    }
-  }
-  std::cout << volumes << " volumes, " << withRemovedAbove << " with removed above components, "
-            << withRemovedBelow << " with removed below components, " << withUnrepairable
-            << " with unrepairable voxels" << std::endl;
-  if (failures == 0)
-  {
-    EXPECT_GT(withRemovedAbove, numberOfVolumes / 8);
-    EXPECT_GT(withRemovedBelow, numberOfVolumes / 8);
-    EXPECT_GT(withUnrepairable, 0u);
-  }
-}
-} // namespace
+using itk::SmallIsoComponentTest::ExpectFilterMatchesReference;
 
 TEST(SmallIsoComponentDifferential, UInt8Image2D)
 {

@@ -140,11 +140,15 @@ struct RandomCase
 
 namespace Detail
 {
-/** One extent, mostly small, sometimes up to 40. */
+/** One extent, mostly small, sometimes up to 40 (up to 10 from four dimensions on). */
 inline SizeValueType
 DrawExtent(RandomSource & random, unsigned int dimension)
 {
   const double r = random.Uniform();
+  if (dimension > 3)
+  {
+    return static_cast<SizeValueType>(r < 0.9 ? random.Between(1, 6) : random.Between(7, 10));
+  }
   if (r < 0.75)
   {
     return static_cast<SizeValueType>(random.Between(1, dimension == 2 ? 16 : 9));
@@ -312,10 +316,15 @@ FieldToPixels(RandomSource & random, const std::vector<double> & field, std::ost
   }
   else if constexpr (std::is_integral<TInputPixel>::value)
   {
-    // A narrow range (many equal samples, σ often equal to one) or nearly all of int16.
+    // A narrow range (many equal samples, σ often equal to one) or most of the type's
+    // range (at most ±10^9).
+    using Limits = std::numeric_limits<TInputPixel>;
+    const double low = std::max(static_cast<double>(Limits::lowest()), -1.0e9);
+    const double high = std::min(static_cast<double>(Limits::max()), 1.0e9);
     const bool   narrow = random.Chance(0.5);
-    const double scale = narrow ? 12.0 : 60000.0;
-    const double offset = narrow ? static_cast<double>(random.Between(-8, 8)) : -30000.0;
+    const double scale = narrow ? 12.0 : 0.95 * (high - low);
+    const double offset = narrow ? static_cast<double>(random.Between(Limits::is_signed ? -8 : 0, 8))
+                                 : low + 0.025 * (high - low);
     description << " int(scale " << scale << ", offset " << offset << ")";
     for (SizeValueType v = 0; v < field.size(); ++v)
     {
