@@ -34,12 +34,14 @@ readonly python=/usr/bin/python3
 # headers and NumPy for the itk package, dpkg-dev for `apt-get source`.
 readonly debian_packages=(dpkg-dev build-essential cmake ninja-build castxml swig python3-dev python3-numpy)
 
-# The ITK modules: the module's dependencies and test dependencies (itk-module.cmake), the
-# image IO of its command-line tools, and NumPy interop for the Python package. The
-# wrapping enables a few more by itself.
+# The ITK modules: the module's dependencies and test dependencies (itk-module.cmake), what
+# its command-line tools and benchmark need (SmallIsoComponent_APP_ITK_MODULES in
+# CMakeLists.txt), and NumPy interop for the Python package. ITK enables the modules these
+# depend on by itself. Changing the list reconfigures and incrementally rebuilds ITK.
 readonly itk_modules=(
   ITKCommon ITKTestKernel ITKGoogleTest
   ITKIOImageBase ITKIOMeta ITKIONRRD ITKIONIFTI ITKIOPNG ITKIOTIFF ITKIOVTK ITKIOGIPL ITKIOBMP
+  ITKThresholding ITKConnectedComponents
   ITKBridgeNumPy
 )
 
@@ -216,12 +218,24 @@ step_configure() {
   local options
   mapfile -t options < <(itk_cmake_options)
   cmake -S "${itk_source}" -B "${itk_build}" "${options[@]}"
+  itk_cmake_options >"${cache_dir}/itk-options.txt"
+}
+
+# A build configured with other options (an older version of this script) is configured
+# again and rebuilt incrementally.
+forget_build_if_options_changed() {
+  if [[ -f ${stamps}/configure ]] && ! itk_cmake_options | cmp -s - "${cache_dir}/itk-options.txt"; then
+    log "the ITK options differ from those of the existing build: configuring and building again"
+    rm -f "${stamps}/configure" "${stamps}/compile"
+  fi
 }
 
 step_compile() {
-  local start=${SECONDS}
   # Ninja prints [done/total] for every step; that is the progress.
   cmake --build "${itk_build}" -j "${jobs}"
+  # ITK builds its GoogleTest only for its own tests (EXCLUDE_FROM_ALL), but exports it
+  # for modules' tests.
+  cmake --build "${itk_build}" -j "${jobs}" --target gtest gtest_main
   log "ITK build tree: $(du -sh "${itk_build}" | cut -f1)"
 }
 
@@ -232,6 +246,7 @@ cmd_build() {
   run_step sources step_sources
   run_step fetch step_fetch
   run_step patch step_patch
+  forget_build_if_options_changed
   run_step configure step_configure
   run_step compile step_compile
   log "ITK ${itk_version} with Python wrapping is ready in ${itk_build} ($(format_seconds $((SECONDS - start))) this run)"
@@ -243,7 +258,7 @@ check_module() {
   local name=$1 wrap=$2 dir=${module_builds}/$1 start=${SECONDS}
   log "check ${name}: configure, build and test the module (Python wrapping ${wrap})"
   cmake -S "${repo_dir}" -B "${dir}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-    -DITK_DIR="${itk_build}" -DITK_WRAP_PYTHON="${wrap}" -DBUILD_TESTING=ON \
+    -DITK_DIR="${itk_build}" -DSmallIsoComponent_WRAP_PYTHON="${wrap}" -DBUILD_TESTING=ON \
     -DPython3_EXECUTABLE=${python} &&
     cmake --build "${dir}" -j "${jobs}" &&
     (cd "${dir}" && ctest --output-on-failure -j "${jobs}")
