@@ -208,7 +208,8 @@ PlotReport(const Report &      report,
     script << "set terminal pngcairo noenhanced size 1400,1000 font 'sans,11'\n"
            << "set output " << Quoted(path) << "\n"
            << "set datafile commentschars '#'\n"
-           << "set grid\nset key top right\nset yrange [0:*]\nset format y '%.0f'\n"
+           << "set grid\nset key top right opaque box\nset autoscale xfix\nset offsets 0, 0, graph 0.05, 0\n"
+           << "set yrange [0:*]\nset format y '%.0f'\n"
            << "set multiplot layout 2,2 title " << Quoted(title) << "\n";
     WritePanel(script, byIsoValue.string(), "isovalue S", "components removed",
                "Components of <= " + K + " voxels, by isovalue", 2, 3);
