@@ -136,7 +136,7 @@ for name, isovalue, sweep, start, stop in volumes:
         row["below"]["components"], percent(small(row, 0), row["total_components"]),
         percent(small(row, -1), row["total_components"]), changed, percent(changed, voxels),
         float(stop) - float(start)))
-out.append("\nSweep seconds: one run of the tool over the volume's isovalue sweep (101 to 129 isovalues, "
+out.append("\nSweep seconds: one run of the tool over the volume's isovalue sweep (101 to 128 isovalues, "
            "sizes 0 to 100, plot included, reading the gzip file included) on this machine with %s cores.\n"
            % cores)
 
