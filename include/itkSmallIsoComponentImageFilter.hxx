@@ -23,9 +23,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#if defined(__SSE2__)
-#  include <emmintrin.h>
-#endif
 #include <limits>
 #include <numeric>
 
@@ -33,53 +30,6 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-/** The isovalue σ seen through pixel type T: f >= σ holds exactly when f >= LowestAbove
- * (NaN never), and HighestBelow is the largest non-NaN value below σ. */
-template <typename T>
-struct IsoThreshold
-{
-  bool AnyAbove{ false };
-  T    LowestAbove{};
-  bool AnyBelow{ false };
-  T    HighestBelow{};
-
-  explicit IsoThreshold(double iso)
-  {
-    if constexpr (std::is_integral<T>::value)
-    {
-      const double lowest = static_cast<double>(std::numeric_limits<T>::lowest());
-      const double highest = static_cast<double>(std::numeric_limits<T>::max());
-      const double ceiling = std::ceil(iso);
-      AnyAbove = ceiling <= highest;
-      LowestAbove = ceiling <= lowest ? std::numeric_limits<T>::lowest() : static_cast<T>(AnyAbove ? ceiling : highest);
-      AnyBelow = ceiling - 1.0 >= lowest;
-      HighestBelow = ceiling - 1.0 >= highest ? std::numeric_limits<T>::max()
-                                              : static_cast<T>(AnyBelow ? ceiling - 1.0 : lowest);
-    }
-    else
-    {
-      LowestAbove = static_cast<T>(iso);
-      if (static_cast<double>(LowestAbove) < iso)
-      {
-        LowestAbove = std::nextafter(LowestAbove, std::numeric_limits<T>::infinity());
-      }
-      AnyAbove = static_cast<double>(LowestAbove) >= iso;
-      HighestBelow = static_cast<T>(iso);
-      if (static_cast<double>(HighestBelow) >= iso)
-      {
-        HighestBelow = std::nextafter(HighestBelow, -std::numeric_limits<T>::infinity());
-      }
-      AnyBelow = static_cast<double>(HighestBelow) < iso;
-    }
-  }
-
-  bool
-  IsAbove(T value) const
-  {
-    return AnyAbove && value >= LowestAbove;
-  }
-};
-
 template <typename T>
 bool
 IsNaN(T value)
@@ -93,132 +43,6 @@ IsNaN(T value)
     (void)value;
     return false;
   }
-}
-
-/** Whether a block of voxels holds one on the other side than \a above. Written as
- * reductions that the compiler vectorises: a minimum or maximum for integers, a count
- * for floating point (where NaN, never above, must count as a change). */
-template <typename T, SizeValueType VBlock>
-bool
-BlockHasChange(const T * block, T lowestAbove, bool above)
-{
-  if constexpr (std::is_integral<T>::value)
-  {
-    T extreme = block[0];
-    if (above)
-    {
-      for (SizeValueType k = 0; k < VBlock; ++k)
-      {
-        extreme = block[k] < extreme ? block[k] : extreme;
-      }
-      return extreme < lowestAbove;
-    }
-    for (SizeValueType k = 0; k < VBlock; ++k)
-    {
-      extreme = block[k] > extreme ? block[k] : extreme;
-    }
-    return extreme >= lowestAbove;
-  }
-  else
-  {
-    unsigned int aboveCount = 0;
-    for (SizeValueType k = 0; k < VBlock; ++k)
-    {
-      aboveCount += block[k] >= lowestAbove ? 1u : 0u;
-    }
-    return above ? aboveCount != VBlock : aboveCount != 0;
-  }
-}
-
-#if defined(__SSE2__)
-/** Pixel types for which BelowBytes() exists. */
-template <typename T>
-constexpr bool HasBelowBytes = std::is_same<T, uint8_t>::value || std::is_same<T, int8_t>::value ||
-                               std::is_same<T, uint16_t>::value || std::is_same<T, int16_t>::value ||
-                               std::is_same<T, float>::value;
-
-/** One bit per byte of the 16 bytes at \a p, set for the bytes of voxels below t
- * (v < t, or NaN). */
-template <typename T>
-unsigned int
-BelowBytes(const T * p, T t)
-{
-  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i *>(p));
-  if constexpr (std::is_same<T, uint8_t>::value)
-  {
-    // v >= t exactly when the saturated difference t - v is zero.
-    return ~_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_subs_epu8(_mm_set1_epi8(static_cast<char>(t)), v),
-                                             _mm_setzero_si128())) & 0xFFFFu;
-  }
-  else if constexpr (std::is_same<T, uint16_t>::value)
-  {
-    return ~_mm_movemask_epi8(_mm_cmpeq_epi16(_mm_subs_epu16(_mm_set1_epi16(static_cast<short>(t)), v),
-                                              _mm_setzero_si128())) & 0xFFFFu;
-  }
-  else if constexpr (std::is_same<T, int8_t>::value)
-  {
-    return static_cast<unsigned int>(_mm_movemask_epi8(_mm_cmpgt_epi8(_mm_set1_epi8(t), v)));
-  }
-  else if constexpr (std::is_same<T, int16_t>::value)
-  {
-    return static_cast<unsigned int>(_mm_movemask_epi8(_mm_cmpgt_epi16(_mm_set1_epi16(t), v)));
-  }
-  else
-  {
-    // cmpnge is true for v < t and for NaN.
-    return static_cast<unsigned int>(
-      _mm_movemask_epi8(_mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(p), _mm_set1_ps(t)))));
-  }
-}
-#endif
-
-/** The first x >= from where the side differs from \a above, or length. Runs are long
- * in real volumes, so voxels are tested many at a time: with SSE2, 16 bytes by one
- * compare whose bit mask locates the change; otherwise whole blocks, then quarter
- * blocks, before the change is located voxel by voxel. */
-template <typename T>
-SizeValueType
-NextSideChange(const T * line, SizeValueType from, SizeValueType length, const IsoThreshold<T> & threshold, bool above)
-{
-  if (!threshold.AnyAbove)
-  {
-    return above ? from : length;
-  }
-  const T       t = threshold.LowestAbove;
-  SizeValueType x = from;
-#if defined(__SSE2__)
-  if constexpr (HasBelowBytes<T>)
-  {
-    constexpr SizeValueType step = 16 / sizeof(T);
-    for (; x + step <= length; x += step)
-    {
-      const unsigned int below = BelowBytes(line + x, t);
-      const unsigned int change = above ? below : ~below & 0xFFFFu;
-      if (change != 0)
-      {
-        return x + static_cast<SizeValueType>(__builtin_ctz(change)) / sizeof(T);
-      }
-    }
-  }
-  else
-#endif
-  {
-    constexpr SizeValueType block = 64 / sizeof(T) > 0 ? 64 / sizeof(T) : 1;
-    constexpr SizeValueType subBlock = block / 4 > 0 ? block / 4 : 1;
-    while (x + block <= length && !BlockHasChange<T, block>(line + x, t, above))
-    {
-      x += block;
-    }
-    while (x + subBlock <= length && !BlockHasChange<T, subBlock>(line + x, t, above))
-    {
-      x += subBlock;
-    }
-  }
-  while (x < length && (line[x] >= t) == above)
-  {
-    ++x;
-  }
-  return x;
 }
 
 /** Counts components by size: the many small sizes in an array, the few large ones in
@@ -432,51 +256,28 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
                                                                    OutputImageType *              output,
                                                                    MaskImageType *                mask)
 {
-  MaskPixelType * maskBuffer = mask->GetBufferPointer();
-  const SmallIsoComponentDetail::IsoThreshold<OutputPixelType> threshold(m_IsoValue);
-  const InputPixelType *                                       inBuffer = input->GetBufferPointer();
-  OutputPixelType *                                            outBuffer = output->GetBufferPointer();
-  const bool          copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
-  const SizeValueType length = labeling.GetLineLength();
-
-  this->GetMultiThreader()->ParallelizeArray(
-    0,
-    labeling.GetNumberOfSlabs(),
-    [&](SizeValueType slab) {
-      auto & starts = labeling.GetSlabRunStarts(static_cast<unsigned int>(slab));
-      for (SizeValueType line = labeling.GetSlabBeginLine(static_cast<unsigned int>(slab));
-           line < labeling.GetSlabBeginLine(static_cast<unsigned int>(slab) + 1);
-           ++line)
+  MaskPixelType *        maskBuffer = mask->GetBufferPointer();
+  const InputPixelType * inBuffer = input->GetBufferPointer();
+  OutputPixelType *      outBuffer = output->GetBufferPointer();
+  const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
+  const SizeValueType    length = labeling.GetLineLength();
+  SmallIsoComponentThreshold<OutputPixelType>(m_IsoValue)
+    .Encode(outBuffer, labeling, this->GetMultiThreader(), [&](SizeValueType line) {
+      const InputPixelType * in = inBuffer + line * length;
+      OutputPixelType *      out = outBuffer + line * length;
+      if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
       {
-        const InputPixelType * in = inBuffer + line * length;
-        OutputPixelType *      out = outBuffer + line * length;
-        if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
+        if (copy)
         {
-          if (copy)
-          {
-            std::memcpy(out, in, length * sizeof(OutputPixelType));
-          }
+          std::memcpy(out, in, length * sizeof(OutputPixelType));
         }
-        else
-        {
-          std::transform(in, in + length, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
-        }
-        std::memset(maskBuffer + line * length, 0, length * sizeof(MaskPixelType));
-        const bool    firstAbove = threshold.IsAbove(out[0]);
-        bool          above = firstAbove;
-        SizeValueType runs = 1;
-        starts.push_back(0);
-        for (SizeValueType x = NextSideChange(out, 1, length, threshold, above); x < length;
-             x = NextSideChange(out, x + 1, length, threshold, above))
-        {
-          above = !above;
-          starts.push_back(static_cast<SmallIsoComponentRunLabeling::CoordinateType>(x));
-          ++runs;
-        }
-        labeling.SetLineRuns(line, runs, firstAbove);
       }
-    },
-    nullptr);
+      else
+      {
+        std::transform(in, in + length, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
+      }
+      std::memset(maskBuffer + line * length, 0, length * sizeof(MaskPixelType));
+    });
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -489,8 +290,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
                                                                MaskImageType *                      mask)
 {
   using namespace SmallIsoComponentDetail;
-  const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
-  const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow : threshold.LowestAbove;
+  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
+  const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
 
   const std::vector<SmallIsoComponentRunLabeling::LineRun> runs =
     labeling.CollectRuns(removedComponent, this->GetMultiThreader());
@@ -691,7 +492,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes, labeling.GetMemoryInBytes());
   this->CheckAbort(0.7f);
 
-  const IsoThreshold<OutputPixelType> threshold(m_IsoValue);
+  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
   const SizeValueType                 numberOfComponents = labeling.GetNumberOfComponents();
 
   // Phase 3: the above pass, on the input's components.
@@ -708,7 +509,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     aboveSizes.Add(componentSize);
     if (m_Side != SideEnum::Below && componentSize <= K)
     {
-      if (threshold.AnyBelow)
+      if (threshold.AnyBelow())
       {
         removedAbove[c] = 1;
         ++m_AboveStatistics.RemovedComponents;
@@ -742,7 +543,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     belowSizes.Add(groupSize[g]);
     if (m_Side != SideEnum::Above && groupSize[g] <= K)
     {
-      if (threshold.AnyAbove)
+      if (threshold.AnyAbove())
       {
         removedGroup[g] = 1;
         ++m_BelowStatistics.RemovedComponents;
