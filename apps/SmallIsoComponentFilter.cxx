@@ -347,7 +347,8 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
 
   sic::FilterReport report;
   report.EffectiveMaximumSize = filter->GetEffectiveMaximumComponentSize();
-  report.Threads = filter->GetNumberOfWorkUnits();
+  report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  report.WorkUnits = filter->GetNumberOfWorkUnits();
   report.Above = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Above);
   report.Below = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Below);
   report.ModifiedVoxels = filter->GetNumberOfModifiedVoxels();

@@ -81,7 +81,8 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
        << report.Below.Components << " below components (" << report.Below.RemovedVoxels << " voxels); "
        << report.ModifiedVoxels << " voxels modified, " << report.UnrepairableVoxels << " unrepairable. ";
   text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total "
-       << report.TotalSeconds << " s on " << report.Threads << (report.Threads == 1 ? " thread." : " threads.");
+       << report.TotalSeconds << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (")
+       << report.WorkUnits << (report.WorkUnits == 1 ? " work unit)." : " work units).");
   out << text.str() << std::endl;
 }
 
@@ -143,6 +144,7 @@ WriteStatisticsJson(std::ostream &         out,
   json.Key("side").String(settings.Side);
   json.Key("connectivity").String(settings.FullyConnected ? "full" : "face");
   json.Key("threads").Number(report.Threads);
+  json.Key("work_units").Number(report.WorkUnits);
   json.EndObject();
 
   json.Key("statistics").BeginObject();

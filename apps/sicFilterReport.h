@@ -70,7 +70,9 @@ struct FilterReport
 {
   ScalarImageInfo Input;
   std::uint64_t   EffectiveMaximumSize{ 0 };
+  /** ITK's number of threads, and the work units the filter split its work into. */
   std::uint64_t   Threads{ 0 };
+  std::uint64_t   WorkUnits{ 0 };
   SideReport      Above;
   SideReport      Below;
   std::uint64_t   ModifiedVoxels{ 0 };
