@@ -201,6 +201,27 @@ SparseBlobs(std::size_t nx, std::size_t ny, std::size_t nz, uint64_t seed)
   return image;
 }
 
+/** The memory worst case: sides alternate at every voxel, so every voxel is a run and,
+ * with face connectivity, a component of its own. */
+template <typename T>
+typename ImageType<T>::Pointer
+Checkerboard(std::size_t n)
+{
+  auto image = NewImage<T>(n, n, n);
+  T *  out = image->GetBufferPointer();
+  for (std::size_t z = 0; z < n; ++z)
+  {
+    for (std::size_t y = 0; y < n; ++y)
+    {
+      for (std::size_t x = 0; x < n; ++x)
+      {
+        *out++ = (x + y + z) % 2 ? T(200) : T(10);
+      }
+    }
+  }
+  return image;
+}
+
 /** The isovalue half way between the median and the next value, for smooth noise. */
 template <typename T>
 double
@@ -550,6 +571,7 @@ main(int argc, char * argv[])
       auto blobs = SparseBlobs<uint16_t>(512, 512, 463, 3);
       benchmark.Run<uint16_t>("blobs-512x512x463-u16", blobs, 500.5);
     }
+    benchmark.Run<uint8_t>("checkerboard-256-u8", Checkerboard<uint8_t>(256), 100.5);
   }
 
   benchmark.Print(std::cout);
