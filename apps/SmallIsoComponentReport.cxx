@@ -28,6 +28,7 @@
 #include "sicScalarImageDispatch.h"
 #include "sicStagedOutputs.h"
 #include "sicToolError.h"
+#include "sicToolMain.h"
 
 #include "itkMultiThreaderBase.h"
 
@@ -350,34 +351,7 @@ int
 main(int argc, char * argv[])
 {
   const sic::ToolDescription tool = DescribeTool();
-  try
-  {
-    const sic::ParsedCommandLine arguments = sic::ParseCommandLine(tool, argc, argv);
-    if (arguments.Has("--help"))
-    {
-      std::cout << sic::HelpText(tool);
-      return sic::ExitSuccess;
-    }
+  return sic::ToolMain(tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) {
     return Run(ReadSettings(tool, arguments));
-  }
-  catch (const sic::ToolError & error)
-  {
-    std::cerr << ToolName << ": " << error.what() << std::endl;
-    return sic::ExitUsage;
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    std::cerr << ToolName << ": " << sic::OneLine(error.GetDescription()) << std::endl;
-    return sic::ExitFailure;
-  }
-  catch (const std::bad_alloc &)
-  {
-    std::cerr << ToolName << ": out of memory" << std::endl;
-    return sic::ExitFailure;
-  }
-  catch (const std::exception & error)
-  {
-    std::cerr << ToolName << ": " << sic::OneLine(error.what()) << std::endl;
-    return sic::ExitFailure;
-  }
+  });
 }

@@ -1,0 +1,74 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicToolMain.h"
+#include "sicSlicerDescription.h"
+#include "sicToolError.h"
+
+#include "itkMacro.h"
+
+#include <algorithm>
+#include <iostream>
+#include <new>
+
+namespace sic
+{
+int
+ToolMain(const ToolDescription &                                tool,
+         int                                                    argc,
+         char *                                                 argv[],
+         const std::function<int(const ParsedCommandLine &)> & run)
+{
+  try
+  {
+    const ParsedCommandLine arguments = ParseCommandLine(tool, argc, argv);
+    if (arguments.Has("--help"))
+    {
+      std::cout << HelpText(tool);
+      return ExitSuccess;
+    }
+    const bool offersXml = std::any_of(
+      tool.Options.begin(), tool.Options.end(), [](const Option & option) { return option.Flag == "--xml"; });
+    if (offersXml && arguments.Has("--xml"))
+    {
+      std::cout << SlicerDescriptionXml(tool);
+      return ExitSuccess;
+    }
+    return run(arguments);
+  }
+  catch (const ToolError & error)
+  {
+    std::cerr << tool.Name << ": " << error.what() << std::endl;
+    return ExitUsage;
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    std::cerr << tool.Name << ": " << OneLine(error.GetDescription()) << std::endl;
+    return ExitFailure;
+  }
+  catch (const std::bad_alloc &)
+  {
+    std::cerr << tool.Name << ": out of memory" << std::endl;
+    return ExitFailure;
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << tool.Name << ": " << OneLine(error.what()) << std::endl;
+    return ExitFailure;
+  }
+}
+} // namespace sic
