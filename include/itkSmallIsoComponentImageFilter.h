@@ -66,7 +66,8 @@ namespace itk
  * The threshold can also be given as a physical volume, MaximumComponentVolume, in the
  * image's units cubed (mm³ for medical images): a component is small when its voxel count
  * times the volume of one voxel (the product of the spacing) is at most that volume, so
- * K = floor(volume / voxel volume). Whichever of MaximumComponentSize and
+ * K = floor(volume / voxel volume), with a relative tolerance of 1e-12 so that a volume of
+ * exactly k voxels gives K = k despite floating-point rounding. Whichever of MaximumComponentSize and
  * MaximumComponentVolume was set last is used; GetEffectiveMaximumComponentSize() tells
  * the K of the last Update().
  *
@@ -78,7 +79,8 @@ namespace itk
  * them were removed and how many voxels they had, the component-size histogram of each
  * side (so the removal counts for every K follow from one run), the number of modified
  * voxels (voxels the filter wrote, the nonzero voxels of the mask), and the number of
- * unrepairable voxels. The above side's statistics describe the input; the below side's
+ * unrepairable voxels (counted per pass: a voxel that gets the fallback value in both
+ * passes of Both counts twice). The above side's statistics describe the input; the below side's
  * describe the image the below pass saw: the result of the above pass when Side is Both,
  * the input otherwise.
  *
