@@ -218,6 +218,9 @@ step_configure() {
   local options
   mapfile -t options < <(itk_cmake_options)
   cmake -S "${itk_source}" -B "${itk_build}" "${options[@]}"
+  # ITK 5.2's second configure changes the compiler flags of most targets once (seen
+  # here); doing it now keeps any later configure from recompiling all of ITK.
+  cmake "${itk_build}"
   itk_cmake_options >"${cache_dir}/itk-options.txt"
 }
 
@@ -253,13 +256,15 @@ cmd_build() {
 }
 
 # check_module NAME WRAP: configures, builds and tests the module against the ITK build
-# tree in build-itk-source/NAME, with ITK's Python wrapping on or off.
+# tree in build-itk-source/NAME, with ITK's Python wrapping on or off. With BUILD_TESTING
+# on, ITK's module macros would download clang-format and KWStyle (style checks, not
+# tests): ITK_FORBID_DOWNLOADS and ITK_USE_KWSTYLE turn that off.
 check_module() {
   local name=$1 wrap=$2 dir=${module_builds}/$1 start=${SECONDS}
   log "check ${name}: configure, build and test the module (Python wrapping ${wrap})"
   cmake -S "${repo_dir}" -B "${dir}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DITK_DIR="${itk_build}" -DSmallIsoComponent_WRAP_PYTHON="${wrap}" -DBUILD_TESTING=ON \
-    -DPython3_EXECUTABLE=${python} &&
+    -DPython3_EXECUTABLE=${python} -DITK_FORBID_DOWNLOADS=ON -DITK_USE_KWSTYLE=OFF &&
     cmake --build "${dir}" -j "${jobs}" &&
     (cd "${dir}" && ctest --output-on-failure -j "${jobs}")
   local status=$?
