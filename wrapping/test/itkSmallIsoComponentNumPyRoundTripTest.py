@@ -52,7 +52,9 @@ def round_trip(name, values, iso_value, max_size):
     image.SetSpacing([0.8, 1.25, 2.5][: values.ndim])
     image.SetOrigin([12.0, -3.5, 100.0][: values.ndim])
 
-    result = itk.small_iso_component_image_filter(image, iso_value=iso_value, maximum_component_size=max_size)
+    f = itk.SmallIsoComponentImageFilter.New(image, IsoValue=iso_value, MaximumComponentSize=max_size)
+    f.Update()
+    result = f.GetOutput()
     python_values = itk.array_from_image(result)
 
     input_file = os.path.join(output_directory, f"roundtrip-{name}-input.nrrd")
