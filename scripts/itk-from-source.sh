@@ -258,13 +258,17 @@ cmd_build() {
 # check_module NAME WRAP: configures, builds and tests the module against the ITK build
 # tree in build-itk-source/NAME, with ITK's Python wrapping on or off. With BUILD_TESTING
 # on, ITK's module macros would download clang-format and KWStyle (style checks, not
-# tests): ITK_FORBID_DOWNLOADS and ITK_USE_KWSTYLE turn that off.
+# tests): ITK_FORBID_DOWNLOADS and ITK_USE_KWSTYLE turn that off. ITK's wrapping, read again
+# for the module, does not inherit ITK's choice of system CastXML and SWIG and would
+# download and build its own: the module is told the same.
 check_module() {
   local name=$1 wrap=$2 dir=${module_builds}/$1 start=${SECONDS}
   log "check ${name}: configure, build and test the module (Python wrapping ${wrap})"
   cmake -S "${repo_dir}" -B "${dir}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DITK_DIR="${itk_build}" -DSmallIsoComponent_WRAP_PYTHON="${wrap}" -DBUILD_TESTING=ON \
-    -DPython3_EXECUTABLE=${python} -DITK_FORBID_DOWNLOADS=ON -DITK_USE_KWSTYLE=OFF &&
+    -DPython3_EXECUTABLE=${python} -DITK_FORBID_DOWNLOADS=ON -DITK_USE_KWSTYLE=OFF \
+    -DITK_USE_SYSTEM_CASTXML=ON -DCASTXML_EXECUTABLE=/usr/bin/castxml \
+    -DITK_USE_SYSTEM_SWIG=ON -DSWIG_EXECUTABLE=/usr/bin/swig &&
     cmake --build "${dir}" -j "${jobs}" &&
     (cd "${dir}" && ctest --output-on-failure -j "${jobs}")
   local status=$?
