@@ -495,30 +495,43 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
   const SizeValueType                 numberOfComponents = labeling.GetNumberOfComponents();
 
+  // Counts a component of a side and tells whether its pass removes it: when the side is
+  // processed, the component is small, and the output type has a value on the other side
+  // (otherwise its voxels are unrepairable).
+  const auto removes = [this, K](SideStatistics & statistics,
+                                 SizeCounter &    sizes,
+                                 SizeValueType    componentSize,
+                                 bool             sideProcessed,
+                                 bool             otherSideRepresentable) -> uint8_t {
+    ++statistics.Components;
+    sizes.Add(componentSize);
+    if (!sideProcessed || componentSize > K)
+    {
+      return 0;
+    }
+    if (!otherSideRepresentable)
+    {
+      m_NumberOfUnrepairableVoxels += componentSize;
+      return 0;
+    }
+    ++statistics.RemovedComponents;
+    statistics.RemovedVoxels += componentSize;
+    return 1;
+  };
+
   // Phase 3: the above pass, on the input's components.
-  std::vector<uint8_t>       removedAbove(numberOfComponents, 0);
-  SizeCounter                aboveSizes;
+  std::vector<uint8_t> removedAbove(numberOfComponents, 0);
+  SizeCounter          aboveSizes;
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
-    if (!labeling.IsComponentAbove(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c)))
+    const auto component = static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c);
+    if (labeling.IsComponentAbove(component))
     {
-      continue;
-    }
-    const SizeValueType componentSize = labeling.GetComponentSize(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c));
-    ++m_AboveStatistics.Components;
-    aboveSizes.Add(componentSize);
-    if (m_Side != SideEnum::Below && componentSize <= K)
-    {
-      if (threshold.AnyBelow())
-      {
-        removedAbove[c] = 1;
-        ++m_AboveStatistics.RemovedComponents;
-        m_AboveStatistics.RemovedVoxels += componentSize;
-      }
-      else
-      {
-        m_NumberOfUnrepairableVoxels += componentSize;
-      }
+      removedAbove[c] = removes(m_AboveStatistics,
+                                aboveSizes,
+                                labeling.GetComponentSize(component),
+                                m_Side != SideEnum::Below,
+                                threshold.AnyBelow());
     }
   }
   m_AboveStatistics.Histogram = aboveSizes.Histogram();
@@ -539,21 +552,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   SizeCounter          belowSizes;
   for (SizeValueType g = 0; g < groupSize.size(); ++g)
   {
-    ++m_BelowStatistics.Components;
-    belowSizes.Add(groupSize[g]);
-    if (m_Side != SideEnum::Above && groupSize[g] <= K)
-    {
-      if (threshold.AnyAbove())
-      {
-        removedGroup[g] = 1;
-        ++m_BelowStatistics.RemovedComponents;
-        m_BelowStatistics.RemovedVoxels += groupSize[g];
-      }
-      else
-      {
-        m_NumberOfUnrepairableVoxels += groupSize[g];
-      }
-    }
+    removedGroup[g] =
+      removes(m_BelowStatistics, belowSizes, groupSize[g], m_Side != SideEnum::Above, threshold.AnyAbove());
   }
   m_BelowStatistics.Histogram = belowSizes.Histogram();
   std::vector<uint8_t> removedBelow(numberOfComponents, 0);
