@@ -241,13 +241,15 @@ private:
              OutputImageType *              output,
              MaskImageType *                mask);
 
-  /** Gives every voxel of the runs selected by \a removedComponent (indexed by the
-   * run's component) a value on the other side, marks it in the mask with \a maskValue,
-   * and returns the number of voxels changed. */
+  /** Gives every voxel of \a runs (the runs of the components selected by
+   * \a removedComponent, as SmallIsoComponentRunLabeling::CollectRuns() gives them) a
+   * value on the other side, marks it in the mask with \a maskValue, and returns the
+   * number of voxels changed. */
   SizeValueType
-  Repair(const SmallIsoComponentRunLabeling & labeling,
-         const std::vector<uint8_t> &         removedComponent,
-         bool                                 removedAreAbove,
+  Repair(const SmallIsoComponentRunLabeling &                      labeling,
+         const std::vector<uint8_t> &                              removedComponent,
+         const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
+         bool                                                      removedAreAbove,
          MaskPixelType                        maskValue,
          OutputImageType *                    output,
          MaskImageType *                      mask);

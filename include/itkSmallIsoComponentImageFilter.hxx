@@ -282,9 +282,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
 
 template <typename TInputImage, typename TOutputImage>
 SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoComponentRunLabeling & labeling,
-                                                               const std::vector<uint8_t> &         removedComponent,
-                                                               bool                                 removedAreAbove,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
+  const SmallIsoComponentRunLabeling &                      labeling,
+  const std::vector<uint8_t> &                              removedComponent,
+  const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
+  bool                                                      removedAreAbove,
                                                                MaskPixelType                        maskValue,
                                                                OutputImageType *                    output,
                                                                MaskImageType *                      mask)
@@ -293,8 +295,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(const SmallIsoCo
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
   const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
 
-  const std::vector<SmallIsoComponentRunLabeling::LineRun> runs =
-    labeling.CollectRuns(removedComponent, this->GetMultiThreader());
   if (runs.empty())
   {
     return 0;
@@ -535,7 +535,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     }
   }
   m_AboveStatistics.Histogram = aboveSizes.Histogram();
-  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, true, 1, output, mask);
+  // The runs of the removed above components, also the ones that flip for the below pass.
+  std::vector<SmallIsoComponentRunLabeling::LineRun> removedAboveRuns;
+  if (m_AboveStatistics.RemovedComponents > 0)
+  {
+    removedAboveRuns = labeling.CollectRuns(removedAbove, this->GetMultiThreader());
+  }
+  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask);
   this->CheckAbort(0.8f);
 
   // Phase 4: the below pass. With Both it sees the result of the above pass: each removed
@@ -544,10 +550,19 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   if (!aboveWasRemoved)
   {
     std::fill(removedAbove.begin(), removedAbove.end(), 0);
+    removedAboveRuns.clear();
   }
   std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> groupOfComponent;
   std::vector<SizeValueType>                                    groupSize;
-  labeling.GroupAfterFlip(removedAbove, groupOfComponent, groupSize, this->GetMultiThreader());
+  SizeValueType                                                 groupingBytes = 0;
+  labeling.GroupAfterFlip(
+    removedAbove, removedAboveRuns, groupOfComponent, groupSize, this->GetMultiThreader(), &groupingBytes);
+  m_PeakExtraMemoryInBytes =
+    std::max(m_PeakExtraMemoryInBytes,
+             labeling.GetMemoryInBytes() + removedAbove.capacity() +
+               removedAboveRuns.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) + groupingBytes +
+               groupOfComponent.capacity() * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType));
+  std::vector<SmallIsoComponentRunLabeling::LineRun>().swap(removedAboveRuns);
   std::vector<uint8_t> removedGroup(groupSize.size(), 0);
   SizeCounter          belowSizes;
   for (SizeValueType g = 0; g < groupSize.size(); ++g)
@@ -567,7 +582,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
                (groupOfComponent.capacity() + numberOfComponents) * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType) +
                groupSize.capacity() * sizeof(SizeValueType));
   this->CheckAbort(0.85f);
-  m_NumberOfModifiedVoxels += this->Repair(labeling, removedBelow, false, 2, output, mask);
+  std::vector<SmallIsoComponentRunLabeling::LineRun> removedBelowRuns;
+  if (m_BelowStatistics.RemovedComponents > 0)
+  {
+    removedBelowRuns = labeling.CollectRuns(removedBelow, this->GetMultiThreader());
+  }
+  m_NumberOfModifiedVoxels += this->Repair(labeling, removedBelow, removedBelowRuns, false, 2, output, mask);
   this->UpdateProgress(1.0f);
 }
 

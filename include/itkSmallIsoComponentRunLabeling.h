@@ -22,6 +22,7 @@
 #include "itkMultiThreaderBase.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -37,7 +38,9 @@ namespace itk
  * the runs of both sides gives the components of both sides at once.
  *
  * Linking is parallel without locks: the lines are split into slabs of whole planes along
- * the last axis, each work unit links the runs inside its slab, and the seams between
+ * the last axis (several per work unit, handed out to the work units as they become free,
+ * so that a volume whose runs sit in a few planes still keeps every work unit busy), the
+ * runs inside each slab are linked by whoever handles the slab, and the seams between
  * slabs are linked afterwards. The union-find is Rem's algorithm with splicing, linking
  * towards the smaller run index: every parent index stays at or below its run's index,
  * so one pass in run order turns parents into dense component numbers, and the result
@@ -59,9 +62,43 @@ public:
   static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
-   * largest number of slabs the work may be split into. Clears earlier results. */
+   * number of work units the work will be shared among (the lines are cut into up to
+   * SlabsPerWorkUnit slabs per work unit, one slab for one work unit). Clears earlier
+   * results. */
   void
   Initialize(const std::vector<SizeValueType> & size, bool fullyConnected, unsigned int maximumNumberOfSlabs);
+
+  /** Slabs per work unit when there are several work units. */
+  static constexpr unsigned int SlabsPerWorkUnit = 4;
+
+  /** Calls function(slab) once for every slab, on the threader's work units, each taking
+   * the next unhandled slab when it is free. */
+  template <typename TFunction>
+  void
+  ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
+  {
+    const auto         slabs = this->GetNumberOfSlabs();
+    const unsigned int units = std::min(slabs, threader->GetNumberOfWorkUnits());
+    if (units <= 1)
+    {
+      for (unsigned int slab = 0; slab < slabs; ++slab)
+      {
+        function(slab);
+      }
+      return;
+    }
+    std::atomic<unsigned int> next{ 0 };
+    threader->ParallelizeArray(
+      0,
+      units,
+      [&](SizeValueType) {
+        for (unsigned int slab = next++; slab < slabs; slab = next++)
+        {
+          function(slab);
+        }
+      },
+      nullptr);
+  }
 
   SizeValueType
   GetLineLength() const
@@ -102,11 +139,13 @@ public:
     m_LineRunBegin[line + 1] = numberOfRuns;
     m_LineFirstAbove[line] = firstRunIsAbove;
   }
+  /** Joins the slabs' runs into one run array and links the runs inside each slab. */
   void
   AssembleRuns(MultiThreaderBase * threader);
   /** @} */
 
-  /** Links the runs of each side that touch under the chosen connectivity. */
+  /** Links the runs of each side that touch under the chosen connectivity (what
+   * AssembleRuns() left: the seams between slabs). */
   void
   LinkRuns(MultiThreaderBase * threader);
 
@@ -186,6 +225,18 @@ public:
     RunIndexType Run;
     RunIndexType Line;
   };
+
+  /** The same, given the runs of the flipped components in run order (as CollectRuns()
+   * returns them), so that no run of the other components is visited. The neighbours of
+   * the flipped runs are looked up in parallel, in rounds of boundedly many runs;
+   * scratchBytes, if given, receives the most bytes those lookups held at once. */
+  void
+  GroupAfterFlip(const std::vector<uint8_t> &      flipped,
+                 const std::vector<LineRun> &      flippedRuns,
+                 std::vector<ComponentIndexType> & groupOfComponent,
+                 std::vector<SizeValueType> &      groupSize,
+                 MultiThreaderBase *               threader,
+                 SizeValueType *                   scratchBytes = nullptr) const;
   /** The runs whose component is flagged in \a selected (one flag per component), in
    * run order; the slabs are scanned in parallel. */
   std::vector<LineRun>
@@ -206,17 +257,22 @@ public:
   }
 
 private:
-  /** A neighbouring line: offset along axes 1..N-1 and in line numbers. */
+  /** A neighbouring line: offset along axes 1..N-1 and in line numbers, and the axes
+   * (index into the line coordinates) along which it moves, with the direction. */
   struct LineNeighbor
   {
-    std::vector<int>  Delta;
-    OffsetValueType   LineOffset;
+    std::vector<int>                              Delta;
+    OffsetValueType                               LineOffset;
+    std::vector<std::pair<unsigned int, int>>     Moves;
   };
 
   void
   Union(RunIndexType a, RunIndexType b);
   void
   LinkLines(SizeValueType lineA, SizeValueType lineB);
+  /** Links the runs of one slab with each other. */
+  void
+  LinkInsideSlab(unsigned int slab);
   void
   NextLineCoordinates(std::vector<SizeValueType> & coordinates) const;
   bool

@@ -32,7 +32,7 @@ namespace itk
  * largest non-NaN value below σ. AnyAbove() / AnyBelow() tell whether the type has such a
  * value at all (for unsigned char, σ <= 0 leaves nothing below). Encode() splits every
  * line of a buffer into alternating runs of the two sides for
- * SmallIsoComponentRunLabeling, one slab per work unit. The search for the next change of
+ * SmallIsoComponentRunLabeling, the slabs shared among the work units. The search for the next change of
  * side tests many voxels at once: 16 bytes per SSE2 compare for 8- and 16-bit integers and
  * float, blocks of 64 bytes (a reduction the compiler vectorises) for other types.
  *
@@ -96,19 +96,14 @@ public:
          TPrepareLine &&                prepareLine) const
   {
     const SizeValueType length = labeling.GetLineLength();
-    threader->ParallelizeArray(
-      0,
-      labeling.GetNumberOfSlabs(),
-      [&](SizeValueType slab) {
-        const auto s = static_cast<unsigned int>(slab);
-        auto &     starts = labeling.GetSlabRunStarts(s);
-        for (SizeValueType line = labeling.GetSlabBeginLine(s); line < labeling.GetSlabBeginLine(s + 1); ++line)
-        {
-          prepareLine(line);
-          this->EncodeLine(buffer + line * length, line, labeling, starts);
-        }
-      },
-      nullptr);
+    labeling.ParallelizeSlabs(threader, [&](unsigned int slab) {
+      auto & starts = labeling.GetSlabRunStarts(slab);
+      for (SizeValueType line = labeling.GetSlabBeginLine(slab); line < labeling.GetSlabBeginLine(slab + 1); ++line)
+      {
+        prepareLine(line);
+        this->EncodeLine(buffer + line * length, line, labeling, starts);
+      }
+    });
   }
 
 private:

@@ -70,6 +70,62 @@ BelowBytes(const T * p, T t)
       _mm_movemask_epi8(_mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(p), _mm_set1_ps(t)))));
   }
 }
+
+/** For the 16 bytes at \a p, all-ones lanes for the voxels on one side of t: above
+ * (v >= t) for unsigned integers, below (v < t, or NaN) for the others;
+ * LanesAreAbove<T> tells which. */
+template <typename T>
+constexpr bool LanesAreAbove = std::is_same<T, uint8_t>::value || std::is_same<T, uint16_t>::value;
+
+template <typename T>
+__m128i
+SideLanes(const T * p, T t)
+{
+  if constexpr (std::is_same<T, float>::value)
+  {
+    return _mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(p), _mm_set1_ps(t)));
+  }
+  else
+  {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i *>(p));
+    if constexpr (std::is_same<T, uint8_t>::value)
+    {
+      return _mm_cmpeq_epi8(_mm_subs_epu8(_mm_set1_epi8(static_cast<char>(t)), v), _mm_setzero_si128());
+    }
+    else if constexpr (std::is_same<T, uint16_t>::value)
+    {
+      return _mm_cmpeq_epi16(_mm_subs_epu16(_mm_set1_epi16(static_cast<short>(t)), v), _mm_setzero_si128());
+    }
+    else if constexpr (std::is_same<T, int8_t>::value)
+    {
+      return _mm_cmpgt_epi8(_mm_set1_epi8(t), v);
+    }
+    else
+    {
+      return _mm_cmpgt_epi16(_mm_set1_epi16(t), v);
+    }
+  }
+}
+
+/** Whether the 64 bytes at \a p hold a voxel on the other side than \a above: four
+ * compares combined into one test. */
+template <typename T>
+bool
+ChangeIn64Bytes(const T * p, T t, bool above)
+{
+  constexpr SizeValueType step = 16 / sizeof(T);
+  const __m128i           l0 = SideLanes(p, t);
+  const __m128i           l1 = SideLanes(p + step, t);
+  const __m128i           l2 = SideLanes(p + 2 * step, t);
+  const __m128i           l3 = SideLanes(p + 3 * step, t);
+  // A change is a lane of the marked side when the marked side is the other one, and an
+  // unmarked lane otherwise.
+  if (above != LanesAreAbove<T>)
+  {
+    return _mm_movemask_epi8(_mm_or_si128(_mm_or_si128(l0, l1), _mm_or_si128(l2, l3))) != 0;
+  }
+  return _mm_movemask_epi8(_mm_and_si128(_mm_and_si128(l0, l1), _mm_and_si128(l2, l3))) != 0xFFFF;
+}
 #endif
 } // namespace SmallIsoComponentSse2
 
@@ -157,6 +213,10 @@ SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
   if constexpr (SmallIsoComponentSse2::HasBelowBytes<TPixel>)
   {
     constexpr SizeValueType step = 16 / sizeof(TPixel);
+    while (x + 4 * step <= length && !SmallIsoComponentSse2::ChangeIn64Bytes(line + x, t, above))
+    {
+      x += 4 * step;
+    }
     for (; x + step <= length; x += step)
     {
       const unsigned int below = SmallIsoComponentSse2::BelowBytes(line + x, t);
@@ -165,6 +225,15 @@ SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
       {
         return x + static_cast<SizeValueType>(__builtin_ctz(change)) / sizeof(TPixel);
       }
+    }
+    if (x < length && length >= step)
+    {
+      // The last voxels: one compare of the last 16 bytes, ignoring the ones before x.
+      const SizeValueType last = length - step;
+      const unsigned int  below = SmallIsoComponentSse2::BelowBytes(line + last, t);
+      const unsigned int  change =
+        (above ? below : ~below & 0xFFFFu) & ~((1u << ((x - last) * sizeof(TPixel))) - 1u);
+      return change != 0 ? last + static_cast<SizeValueType>(__builtin_ctz(change)) / sizeof(TPixel) : length;
     }
   }
   else

@@ -60,7 +60,9 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
   // Slabs of whole planes along the last axis (whole lines in 1-D and 2-D).
   const SizeValueType planes = dimension > 1 ? size[dimension - 1] : 1;
   const SizeValueType linesPerPlane = m_NumberOfLines / std::max<SizeValueType>(planes, 1);
-  const SizeValueType slabs = std::max<SizeValueType>(1, std::min<SizeValueType>(maximumNumberOfSlabs, planes));
+  const SizeValueType wanted =
+    maximumNumberOfSlabs > 1 ? SizeValueType{ maximumNumberOfSlabs } * SlabsPerWorkUnit : SizeValueType{ 1 };
+  const SizeValueType slabs = std::max<SizeValueType>(1, std::min<SizeValueType>(wanted, planes));
   m_SlabBeginLine.resize(slabs + 1);
   for (SizeValueType s = 0; s <= slabs; ++s)
   {
@@ -96,6 +98,7 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
       {
         ++nonZero;
         highestNonZero = d;
+        neighbor.Moves.emplace_back(a, d);
       }
     }
     if (nonZero == 0 || (!fullyConnected && nonZero > 1))
@@ -136,20 +139,18 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
   m_RunStart.reset(new CoordinateType[numberOfRuns]);
   m_RunLabel.reset(new RunIndexType[numberOfRuns]);
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
-  threader->ParallelizeArray(
-    0,
-    this->GetNumberOfSlabs(),
-    [this](SizeValueType slab) {
-      const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
-      std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
-      std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
-      const SizeValueType last = m_LineRunBegin[m_SlabBeginLine[slab + 1]];
-      std::iota(m_RunLabel.get() + first, m_RunLabel.get() + last, static_cast<RunIndexType>(first));
-    },
-    nullptr);
+  this->ParallelizeSlabs(threader, [this](unsigned int slab) {
+    const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
+    std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
+    std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
+    const SizeValueType last = m_LineRunBegin[m_SlabBeginLine[slab + 1]];
+    std::iota(m_RunLabel.get() + first, m_RunLabel.get() + last, static_cast<RunIndexType>(first));
+    // The slab's runs are in cache now: link them (only runs of this slab are touched).
+    this->LinkInsideSlab(slab);
+  });
 }
 
-void
+inline void
 SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 {
   // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
@@ -183,62 +184,65 @@ SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
   }
 }
 
-void
+inline void
 SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
 {
-  const SizeValueType aBegin = m_LineRunBegin[lineA];
-  const SizeValueType aEnd = m_LineRunBegin[lineA + 1];
-  const SizeValueType bBegin = m_LineRunBegin[lineB];
-  const SizeValueType bEnd = m_LineRunBegin[lineB + 1];
-  bool                aboveA = m_LineFirstAbove[lineA] != 0;
-  bool                aboveB = m_LineFirstAbove[lineB] != 0;
+  auto               a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
+  const auto         aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
+  auto               b = static_cast<RunIndexType>(m_LineRunBegin[lineB]);
+  const auto         bLast = static_cast<RunIndexType>(m_LineRunBegin[lineB + 1] - 1);
+  bool               sameSide = m_LineFirstAbove[lineA] == m_LineFirstAbove[lineB];
+  if (a == aLast && b == bLast)
+  {
+    // Two lines that are one run each (common: empty background lines).
+    if (sameSide)
+    {
+      this->Union(a, b);
+    }
+    return;
+  }
   // The runs of each line partition [0, length), so one merge visits every overlapping
-  // pair once: same-side pairs that overlap touch. With full connectivity runs also touch
-  // diagonally where both end at the same x: then the run after each one meets the
-  // other, and those pairs are on the same side exactly when the pair itself is not.
+  // pair once: same-side pairs that overlap touch. Sides alternate along a line, so the
+  // pair changes side exactly when one of its runs advances. With full connectivity runs
+  // also touch diagonally where both end at the same x: then the run after each one meets
+  // the other, and those pairs are on the same side exactly when the pair itself is not.
   const CoordinateType * const start = m_RunStart.get();
-  const auto                   end = [this, start](SizeValueType run, SizeValueType lineEnd) {
-    return run + 1 < lineEnd ? SizeValueType{ start[run + 1] } : m_Size[0];
-  };
-  SizeValueType a = aBegin;
-  SizeValueType b = bBegin;
-  SizeValueType endA = end(a, aEnd);
-  SizeValueType endB = end(b, bEnd);
+  const auto                   length = static_cast<CoordinateType>(m_Size[0]);
+  CoordinateType               endA = a < aLast ? start[a + 1] : length;
+  CoordinateType               endB = b < bLast ? start[b + 1] : length;
   while (true)
   {
-    if (aboveA == aboveB)
+    if (sameSide)
     {
-      this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(b));
+      this->Union(a, b);
     }
     if (endA < endB)
     {
       ++a;
-      aboveA = !aboveA;
-      endA = end(a, aEnd);
+      sameSide = !sameSide;
+      endA = a < aLast ? start[a + 1] : length;
     }
     else if (endB < endA)
     {
       ++b;
-      aboveB = !aboveB;
-      endB = end(b, bEnd);
+      sameSide = !sameSide;
+      endB = b < bLast ? start[b + 1] : length;
     }
     else
     {
-      if (a + 1 == aEnd || b + 1 == bEnd)
+      if (a == aLast || b == bLast)
       {
         return;
       }
-      if (m_FullyConnected && aboveA != aboveB)
+      if (m_FullyConnected && !sameSide)
       {
-        this->Union(static_cast<RunIndexType>(a), static_cast<RunIndexType>(b + 1));
-        this->Union(static_cast<RunIndexType>(a + 1), static_cast<RunIndexType>(b));
+        this->Union(a, b + 1);
+        this->Union(a + 1, b);
       }
       ++a;
       ++b;
-      aboveA = !aboveA;
-      aboveB = !aboveB;
-      endA = end(a, aEnd);
-      endB = end(b, bEnd);
+      endA = a < aLast ? start[a + 1] : length;
+      endB = b < bLast ? start[b + 1] : length;
     }
   }
 }
@@ -271,10 +275,9 @@ bool
 SmallIsoComponentRunLabeling::NeighborInside(const std::vector<SizeValueType> & coordinates,
                                              const LineNeighbor &               neighbor) const
 {
-  for (unsigned int a = 0; a < coordinates.size(); ++a)
+  for (const auto & move : neighbor.Moves)
   {
-    const OffsetValueType c = static_cast<OffsetValueType>(coordinates[a]) + neighbor.Delta[a];
-    if (c < 0 || c >= static_cast<OffsetValueType>(m_Size[a + 1]))
+    if (move.second < 0 ? coordinates[move.first] == 0 : coordinates[move.first] + 1 >= m_Size[move.first + 1])
     {
       return false;
     }
@@ -283,51 +286,79 @@ SmallIsoComponentRunLabeling::NeighborInside(const std::vector<SizeValueType> & 
 }
 
 void
-SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase * threader)
+SmallIsoComponentRunLabeling::LinkInsideSlab(unsigned int slab)
 {
   if (m_Size.size() < 2)
   {
     return;
   }
-  const unsigned int lastAxis = static_cast<unsigned int>(m_Size.size()) - 2; // index into coordinates
-  // Inside each slab: only runs of the slab are touched, so no locks are needed.
-  threader->ParallelizeArray(
-    0,
-    this->GetNumberOfSlabs(),
-    [this, lastAxis](SizeValueType slab) {
-      std::vector<SizeValueType> coordinates;
-      const SizeValueType        begin = m_SlabBeginLine[slab];
-      const SizeValueType        end = m_SlabBeginLine[slab + 1];
-      this->LineCoordinates(begin, coordinates);
-      const SizeValueType firstPlane = coordinates[lastAxis];
-      for (SizeValueType line = begin; line < end; ++line, this->NextLineCoordinates(coordinates))
+  std::vector<SizeValueType> coordinates;
+  const SizeValueType        begin = m_SlabBeginLine[slab];
+  const SizeValueType        end = m_SlabBeginLine[slab + 1];
+  this->LineCoordinates(begin, coordinates);
+  if (!m_FullyConnected)
+  {
+    // Face connectivity: one backward neighbour per axis 1..N-1, inside the image when the
+    // line's coordinate along that axis is not 0.
+    const auto                 axes = static_cast<unsigned int>(coordinates.size());
+    std::vector<SizeValueType> stride(axes, 1);
+    for (unsigned int a = 1; a < axes; ++a)
+    {
+      stride[a] = stride[a - 1] * m_Size[a];
+    }
+    for (SizeValueType line = begin; line < end; ++line)
+    {
+      for (unsigned int a = 0; a < axes; ++a)
       {
-        for (const auto & neighbor : m_BackwardNeighbors)
+        if (coordinates[a] > 0 && line - begin >= stride[a])
         {
-          const bool crossesSeam = neighbor.Delta[lastAxis] < 0 && coordinates[lastAxis] == firstPlane;
-          if (!crossesSeam && this->NeighborInside(coordinates, neighbor))
-          {
-            this->LinkLines(line, line + neighbor.LineOffset);
-          }
+          this->LinkLines(line, line - stride[a]);
         }
       }
-    },
-    nullptr);
+      for (unsigned int a = 0; a < axes && ++coordinates[a] == m_Size[a + 1]; ++a)
+      {
+        coordinates[a] = 0;
+      }
+    }
+    return;
+  }
+  for (SizeValueType line = begin; line < end; ++line, this->NextLineCoordinates(coordinates))
+  {
+    for (const auto & neighbor : m_BackwardNeighbors)
+    {
+      // Backward neighbours have lower line numbers; the ones before the slab are seams.
+      const auto back = static_cast<SizeValueType>(-neighbor.LineOffset);
+      if (line - begin >= back && this->NeighborInside(coordinates, neighbor))
+      {
+        this->LinkLines(line, line - back);
+      }
+    }
+  }
+}
 
-  // The seams: the first plane of each slab with the last plane of the previous one.
+void
+SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
+{
+  if (m_Size.size() < 2)
+  {
+    return;
+  }
+  // AssembleRuns() linked the runs inside each slab. The seams: the first plane of each
+  // slab with the planes before it.
   std::vector<SizeValueType> coordinates;
+  const SizeValueType        linesPerPlane = m_NumberOfLines / m_Size.back();
   for (unsigned int slab = 1; slab < this->GetNumberOfSlabs(); ++slab)
   {
     const SizeValueType begin = m_SlabBeginLine[slab];
-    const SizeValueType linesPerPlane = m_NumberOfLines / m_Size.back();
-    for (SizeValueType line = begin; line < begin + linesPerPlane; ++line)
+    this->LineCoordinates(begin, coordinates);
+    for (SizeValueType line = begin; line < begin + linesPerPlane; ++line, this->NextLineCoordinates(coordinates))
     {
-      this->LineCoordinates(line, coordinates);
       for (const auto & neighbor : m_BackwardNeighbors)
       {
-        if (neighbor.Delta[lastAxis] < 0 && this->NeighborInside(coordinates, neighbor))
+        const auto back = static_cast<SizeValueType>(-neighbor.LineOffset);
+        if (line - begin < back && this->NeighborInside(coordinates, neighbor))
         {
-          this->LinkLines(line, line + neighbor.LineOffset);
+          this->LinkLines(line, line - back);
         }
       }
     }
@@ -366,23 +397,35 @@ SmallIsoComponentRunLabeling::CollectRuns(const std::vector<uint8_t> & selected,
   -> std::vector<LineRun>
 {
   std::vector<std::vector<LineRun>> perSlab(this->GetNumberOfSlabs());
-  threader->ParallelizeArray(
-    0,
-    this->GetNumberOfSlabs(),
-    [&](SizeValueType slab) {
-      for (SizeValueType line = m_SlabBeginLine[slab]; line < m_SlabBeginLine[slab + 1]; ++line)
+  this->ParallelizeSlabs(threader, [&](unsigned int slab) {
+    // Over the runs alone; the line of a selected run is found from the previous one's.
+    const SizeValueType * const lineBegin = m_LineRunBegin.data();
+    const SizeValueType         lastLine = m_SlabBeginLine[slab + 1];
+    SizeValueType               line = m_SlabBeginLine[slab];
+    const RunIndexType *        label = m_RunLabel.get();
+    const uint8_t *             flag = selected.data();
+    auto &                      runs = perSlab[slab];
+    for (SizeValueType run = lineBegin[line], end = lineBegin[lastLine]; run < end; ++run)
+    {
+      if (flag[label[run]])
       {
-        for (SizeValueType run = m_LineRunBegin[line]; run < m_LineRunBegin[line + 1]; ++run)
+        if (lineBegin[line + 1] <= run)
         {
-          if (selected[m_RunLabel[run]])
-          {
-            perSlab[slab].push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
-          }
+          line = static_cast<SizeValueType>(std::upper_bound(lineBegin + line + 1, lineBegin + lastLine + 1, run) -
+                                            lineBegin) -
+                 1;
         }
+        runs.push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
       }
-    },
-    nullptr);
+    }
+  });
+  SizeValueType total = 0;
+  for (const auto & slabRuns : perSlab)
+  {
+    total += slabRuns.size();
+  }
   std::vector<LineRun> runs;
+  runs.reserve(total);
   for (const auto & slabRuns : perSlab)
   {
     runs.insert(runs.end(), slabRuns.begin(), slabRuns.end());
@@ -396,55 +439,124 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
                                              std::vector<SizeValueType> &      groupSize,
                                              MultiThreaderBase *               threader) const
 {
+  this->GroupAfterFlip(flipped, this->CollectRuns(flipped, threader), groupOfComponent, groupSize, threader);
+}
+
+void
+SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      flipped,
+                                             const std::vector<LineRun> &      flippedRuns,
+                                             std::vector<ComponentIndexType> & groupOfComponent,
+                                             std::vector<SizeValueType> &      groupSize,
+                                             MultiThreaderBase *               threader,
+                                             SizeValueType *                   scratchBytes) const
+{
   const SizeValueType             numberOfComponents = m_ComponentSize.size();
   std::vector<ComponentIndexType> parent(numberOfComponents);
   std::iota(parent.begin(), parent.end(), ComponentIndexType{ 0 });
-  const auto join = [&parent](ComponentIndexType a, ComponentIndexType b) {
-    a = FindRoot(parent, a);
-    b = FindRoot(parent, b);
-    parent[std::max(a, b)] = std::min(a, b);
-  };
 
-  const SizeValueType        allowance = m_FullyConnected ? 1 : 0;
-  std::vector<SizeValueType> coordinates;
-  for (const LineRun & flippedRun : this->CollectRuns(flipped, threader))
-  {
-    const SizeValueType      run = flippedRun.Run;
-    const SizeValueType      line = flippedRun.Line;
-    const ComponentIndexType component = m_RunLabel[run];
-    // Runs alternate sides, so the runs beside a flipped (above) run are below.
-    if (run > m_LineRunBegin[line])
-    {
-      join(component, m_RunLabel[run - 1]);
-    }
-    if (run + 1 < m_LineRunBegin[line + 1])
-    {
-      join(component, m_RunLabel[run + 1]);
-    }
-    this->LineCoordinates(line, coordinates);
-    const SizeValueType start = m_RunStart[run];
-    const SizeValueType end = this->GetRunEnd(run, line);
-    const SizeValueType from = start >= allowance ? start - allowance : 0;
-    for (const auto & neighbor : m_AllNeighbors)
-    {
-      if (!this->NeighborInside(coordinates, neighbor))
+  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
+  // those are below) and the below runs it overlaps in the neighbouring lines. The pairs
+  // (flipped component, touched component) are found in parallel, in rounds of at most
+  // roundRuns runs per work unit, and joined serially; repeats of the previous pair are
+  // dropped on the way.
+  using Pair = std::pair<ComponentIndexType, ComponentIndexType>;
+  const SizeValueType               units = std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits());
+  constexpr SizeValueType           roundRuns = SizeValueType{ 1 } << 16;
+  std::vector<std::vector<Pair>>    pairs(units);
+  const SizeValueType               allowance = m_FullyConnected ? 1 : 0;
+  const RunIndexType * const        label = m_RunLabel.get();
+  const CoordinateType * const      runStart = m_RunStart.get();
+  SizeValueType                     scratch = 0;
+  const auto                        findPairs = [&](SizeValueType unit, SizeValueType first, SizeValueType last) {
+    auto &                     out = pairs[unit];
+    std::vector<SizeValueType> coordinates;
+    SizeValueType              coordinatesLine = NumericTraits<SizeValueType>::max();
+    out.clear();
+    const auto add = [&out](ComponentIndexType a, ComponentIndexType b) {
+      if (out.empty() || out.back().first != a || out.back().second != b)
       {
-        continue;
+        out.emplace_back(a, b);
       }
-      const SizeValueType other = line + neighbor.LineOffset;
-      const CoordinateType * first = m_RunStart.get() + m_LineRunBegin[other];
-      const CoordinateType * last = m_RunStart.get() + m_LineRunBegin[other + 1];
-      // The run that contains x = from, then every run that starts before end + allowance.
-      for (auto k = static_cast<SizeValueType>(std::upper_bound(first, last, from) - m_RunStart.get()) - 1;
-           k < m_LineRunBegin[other + 1] && m_RunStart[k] < end + allowance;
-           ++k)
+    };
+    for (SizeValueType i = first; i < last; ++i)
+    {
+      const SizeValueType      run = flippedRuns[i].Run;
+      const SizeValueType      line = flippedRuns[i].Line;
+      const ComponentIndexType component = label[run];
+      const SizeValueType      lineBegin = m_LineRunBegin[line];
+      const SizeValueType      lineEnd = m_LineRunBegin[line + 1];
+      if (run > lineBegin)
       {
-        if (!this->IsRunAbove(k, other))
+        add(component, label[run - 1]);
+      }
+      if (run + 1 < lineEnd)
+      {
+        add(component, label[run + 1]);
+      }
+      if (line != coordinatesLine)
+      {
+        this->LineCoordinates(line, coordinates);
+        coordinatesLine = line;
+      }
+      const SizeValueType start = runStart[run];
+      const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
+      const SizeValueType from = start >= allowance ? start - allowance : 0;
+      for (const auto & neighbor : m_AllNeighbors)
+      {
+        if (!this->NeighborInside(coordinates, neighbor))
         {
-          join(component, m_RunLabel[k]);
+          continue;
+        }
+        const SizeValueType          other = line + neighbor.LineOffset;
+        const SizeValueType          otherBegin = m_LineRunBegin[other];
+        const SizeValueType          otherEnd = m_LineRunBegin[other + 1];
+        const CoordinateType * const first = runStart + otherBegin;
+        const CoordinateType * const last = runStart + otherEnd;
+        // The run that contains x = from, then every run that starts before end + allowance.
+        auto       k = static_cast<SizeValueType>(std::upper_bound(first + 1, last, from) - runStart) - 1;
+        bool       above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
+        for (; k < otherEnd && runStart[k] < end + allowance; ++k, above = !above)
+        {
+          if (!above)
+          {
+            add(component, label[k]);
+          }
         }
       }
     }
+  };
+
+  for (SizeValueType done = 0; done < flippedRuns.size();)
+  {
+    const SizeValueType count = std::min<SizeValueType>(flippedRuns.size() - done, units * roundRuns);
+    const SizeValueType chunks = std::min<SizeValueType>(units, count);
+    const auto          chunkBegin = [&](SizeValueType chunk) { return done + chunk * count / chunks; };
+    if (chunks == 1)
+    {
+      findPairs(0, done, done + count);
+    }
+    else
+    {
+      threader->ParallelizeArray(
+        0, chunks, [&](SizeValueType chunk) { findPairs(chunk, chunkBegin(chunk), chunkBegin(chunk + 1)); }, nullptr);
+    }
+    SizeValueType held = 0;
+    for (SizeValueType chunk = 0; chunk < chunks; ++chunk)
+    {
+      held += pairs[chunk].capacity() * sizeof(Pair);
+      for (const Pair & pair : pairs[chunk])
+      {
+        const ComponentIndexType a = FindRoot(parent, pair.first);
+        const ComponentIndexType b = FindRoot(parent, pair.second);
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+    scratch = std::max(scratch, held);
+    done += count;
+  }
+  if (scratchBytes)
+  {
+    *scratchBytes = scratch + parent.capacity() * sizeof(ComponentIndexType);
   }
 
   groupOfComponent.assign(numberOfComponents, NoGroup);
