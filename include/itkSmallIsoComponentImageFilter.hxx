@@ -22,9 +22,13 @@
 #include "itkMath.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numeric>
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
 
 namespace itk
 {
@@ -81,6 +85,77 @@ private:
   std::vector<SizeValueType>             m_Small = std::vector<SizeValueType>(4096, 0);
   std::map<SizeValueType, SizeValueType> m_Large;
 };
+
+/** Images whose output and mask together take at least this many bytes are written with
+ * streaming stores when the runs are encoded: they would not stay in the caches anyway,
+ * and streaming saves reading every written cache line from memory first. */
+constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 24 } << 20;
+
+/** Copies \a bytes from \a source to \a destination, with streaming stores where
+ * SSE2 has them. */
+inline void
+StreamCopy(void * destination, const void * source, SizeValueType bytes)
+{
+#if defined(__SSE2__)
+  auto *       d = static_cast<char *>(destination);
+  const auto * s = static_cast<const char *>(source);
+  const auto   head = std::min<SizeValueType>(bytes, (16 - reinterpret_cast<uintptr_t>(d) % 16) % 16);
+  std::memcpy(d, s, head);
+  for (d += head, s += head, bytes -= head; bytes >= 64; d += 64, s += 64, bytes -= 64)
+  {
+    const __m128i v0 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s));
+    const __m128i v1 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 16));
+    const __m128i v2 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 32));
+    const __m128i v3 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 48));
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d), v0);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), v1);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), v2);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), v3);
+  }
+  for (; bytes >= 16; d += 16, s += 16, bytes -= 16)
+  {
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d), _mm_loadu_si128(reinterpret_cast<const __m128i *>(s)));
+  }
+  std::memcpy(d, s, bytes);
+#else
+  std::memcpy(destination, source, bytes);
+#endif
+}
+
+/** Sets \a bytes at \a destination to zero, with streaming stores where SSE2 has them. */
+inline void
+StreamZero(void * destination, SizeValueType bytes)
+{
+#if defined(__SSE2__)
+  auto *     d = static_cast<char *>(destination);
+  const auto head = std::min<SizeValueType>(bytes, (16 - reinterpret_cast<uintptr_t>(d) % 16) % 16);
+  std::memset(d, 0, head);
+  const __m128i zero = _mm_setzero_si128();
+  for (d += head, bytes -= head; bytes >= 64; d += 64, bytes -= 64)
+  {
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), zero);
+  }
+  for (; bytes >= 16; d += 16, bytes -= 16)
+  {
+    _mm_stream_si128(reinterpret_cast<__m128i *>(d), zero);
+  }
+  std::memset(d, 0, bytes);
+#else
+  std::memset(destination, 0, bytes);
+#endif
+}
+
+/** Makes this thread's streaming stores visible before it hands its work back. */
+inline void
+StreamFence()
+{
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
 
 /** A mean of values of type T, as T: rounded half up for integers. */
 template <typename T>
@@ -261,8 +336,37 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
   OutputPixelType *      outBuffer = output->GetBufferPointer();
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
   const SizeValueType    length = labeling.GetLineLength();
-  SmallIsoComponentThreshold<OutputPixelType>(m_IsoValue)
-    .Encode(outBuffer, labeling, this->GetMultiThreader(), [&](SizeValueType line) {
+  const SizeValueType    voxels = length * labeling.GetNumberOfLines();
+  const bool             stream =
+    voxels * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >= SmallIsoComponentDetail::StreamingThresholdInBytes;
+  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
+  if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
+  {
+    if (stream)
+    {
+      // The output is streamed past the caches, so the lines are read from the input,
+      // which holds the same values.
+      threshold.Encode(
+        inBuffer,
+        labeling,
+        this->GetMultiThreader(),
+        [&](SizeValueType line) {
+          if (copy)
+          {
+            SmallIsoComponentDetail::StreamCopy(
+              outBuffer + line * length, inBuffer + line * length, length * sizeof(OutputPixelType));
+          }
+          SmallIsoComponentDetail::StreamZero(maskBuffer + line * length, length * sizeof(MaskPixelType));
+        },
+        [] { SmallIsoComponentDetail::StreamFence(); });
+      return;
+    }
+  }
+  threshold.Encode(
+    outBuffer,
+    labeling,
+    this->GetMultiThreader(),
+    [&](SizeValueType line) {
       const InputPixelType * in = inBuffer + line * length;
       OutputPixelType *      out = outBuffer + line * length;
       if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
@@ -276,7 +380,20 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
       {
         std::transform(in, in + length, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
       }
-      std::memset(maskBuffer + line * length, 0, length * sizeof(MaskPixelType));
+      if (stream)
+      {
+        SmallIsoComponentDetail::StreamZero(maskBuffer + line * length, length * sizeof(MaskPixelType));
+      }
+      else
+      {
+        std::memset(maskBuffer + line * length, 0, length * sizeof(MaskPixelType));
+      }
+    },
+    [stream] {
+      if (stream)
+      {
+        SmallIsoComponentDetail::StreamFence();
+      }
     });
 }
 

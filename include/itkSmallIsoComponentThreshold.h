@@ -20,6 +20,7 @@
 
 #include "itkSmallIsoComponentRunLabeling.h"
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace itk
@@ -95,6 +96,19 @@ public:
          MultiThreaderBase *            threader,
          TPrepareLine &&                prepareLine) const
   {
+    this->Encode(buffer, labeling, threader, std::forward<TPrepareLine>(prepareLine), [] {});
+  }
+
+  /** The same; finishSlab() is called by the work unit that encoded a slab, after its
+   * last line. */
+  template <typename TPrepareLine, typename TFinishSlab>
+  void
+  Encode(const TPixel *                 buffer,
+         SmallIsoComponentRunLabeling & labeling,
+         MultiThreaderBase *            threader,
+         TPrepareLine &&                prepareLine,
+         TFinishSlab &&                 finishSlab) const
+  {
     const SizeValueType length = labeling.GetLineLength();
     labeling.ParallelizeSlabs(threader, [&](unsigned int slab) {
       auto & starts = labeling.GetSlabRunStarts(slab);
@@ -103,6 +117,7 @@ public:
         prepareLine(line);
         this->EncodeLine(buffer + line * length, line, labeling, starts);
       }
+      finishSlab();
     });
   }
 

@@ -370,24 +370,31 @@ SmallIsoComponentRunLabeling::LabelComponents()
 {
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
+  RunIndexType * const         label = m_RunLabel.get();
+  const CoordinateType * const start = m_RunStart.get();
+  const SizeValueType          length = m_Size[0];
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
-    for (SizeValueType run = m_LineRunBegin[line]; run < m_LineRunBegin[line + 1]; ++run)
+    const SizeValueType end = m_LineRunBegin[line + 1];
+    bool                above = m_LineFirstAbove[line] != 0;
+    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
     {
       // Parents never point to a later run, so the parent's entry already holds its
       // component number.
-      const RunIndexType parent = m_RunLabel[run];
+      const RunIndexType parent = label[run];
+      RunIndexType       component;
       if (parent == run)
       {
-        m_RunLabel[run] = static_cast<ComponentIndexType>(m_ComponentSize.size());
+        component = static_cast<ComponentIndexType>(m_ComponentSize.size());
         m_ComponentSize.push_back(0);
-        m_ComponentAbove.push_back(this->IsRunAbove(run, line));
+        m_ComponentAbove.push_back(above);
       }
       else
       {
-        m_RunLabel[run] = m_RunLabel[parent];
+        component = label[parent];
       }
-      m_ComponentSize[m_RunLabel[run]] += this->GetRunEnd(run, line) - m_RunStart[run];
+      label[run] = component;
+      m_ComponentSize[component] += (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
     }
   }
 }
@@ -471,6 +478,9 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
     auto &                     out = pairs[unit];
     std::vector<SizeValueType> coordinates;
     SizeValueType              coordinatesLine = NumericTraits<SizeValueType>::max();
+    // Where the previous run of the same line stopped in each neighbouring line: runs of a
+    // line come in order, so the search for the next one starts there.
+    std::vector<SizeValueType> cursor(m_AllNeighbors.size());
     out.clear();
     const auto add = [&out](ComponentIndexType a, ComponentIndexType b) {
       if (out.empty() || out.back().first != a || out.back().second != b)
@@ -497,24 +507,30 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       {
         this->LineCoordinates(line, coordinates);
         coordinatesLine = line;
+        std::fill(cursor.begin(), cursor.end(), NumericTraits<SizeValueType>::max());
       }
       const SizeValueType start = runStart[run];
       const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
       const SizeValueType from = start >= allowance ? start - allowance : 0;
-      for (const auto & neighbor : m_AllNeighbors)
+      for (SizeValueType n = 0; n < m_AllNeighbors.size(); ++n)
       {
+        const LineNeighbor & neighbor = m_AllNeighbors[n];
         if (!this->NeighborInside(coordinates, neighbor))
         {
           continue;
         }
-        const SizeValueType          other = line + neighbor.LineOffset;
-        const SizeValueType          otherBegin = m_LineRunBegin[other];
-        const SizeValueType          otherEnd = m_LineRunBegin[other + 1];
-        const CoordinateType * const first = runStart + otherBegin;
-        const CoordinateType * const last = runStart + otherEnd;
-        // The run that contains x = from, then every run that starts before end + allowance.
-        auto       k = static_cast<SizeValueType>(std::upper_bound(first + 1, last, from) - runStart) - 1;
-        bool       above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
+        const SizeValueType other = line + neighbor.LineOffset;
+        const SizeValueType otherBegin = m_LineRunBegin[other];
+        const SizeValueType otherEnd = m_LineRunBegin[other + 1];
+        // The run that contains x = from (at or after the cursor, often the cursor's next
+        // run), then every run that starts before end + allowance.
+        SizeValueType k = cursor[n] == NumericTraits<SizeValueType>::max() ? otherBegin : cursor[n];
+        if (k + 1 < otherEnd && runStart[k + 1] <= from)
+        {
+          k = static_cast<SizeValueType>(std::upper_bound(runStart + k + 1, runStart + otherEnd, from) - runStart) - 1;
+        }
+        cursor[n] = k;
+        bool above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
         for (; k < otherEnd && runStart[k] < end + allowance; ++k, above = !above)
         {
           if (!above)
