@@ -107,6 +107,79 @@ SideLanes(const T * p, T t)
   }
 }
 
+/** One bit per voxel for 16 voxels, set for the voxels on the side SideLanes() marks
+ * (LanesAreAbove<T>: above, otherwise below), the threshold broadcast once. */
+template <typename T>
+class SideBits
+{
+public:
+  explicit SideBits(T t)
+  {
+    if constexpr (std::is_same<T, float>::value)
+    {
+      m_T = _mm_castps_si128(_mm_set1_ps(t));
+    }
+    else if constexpr (sizeof(T) == 1)
+    {
+      m_T = _mm_set1_epi8(static_cast<char>(t));
+    }
+    else
+    {
+      m_T = _mm_set1_epi16(static_cast<short>(t));
+    }
+  }
+
+  unsigned int
+  operator()(const T * p) const
+  {
+    if constexpr (sizeof(T) == 1)
+    {
+      return static_cast<unsigned int>(_mm_movemask_epi8(Lanes(p)));
+    }
+    else if constexpr (sizeof(T) == 2)
+    {
+      return static_cast<unsigned int>(_mm_movemask_epi8(_mm_packs_epi16(Lanes(p), Lanes(p + 8))));
+    }
+    else
+    {
+      return static_cast<unsigned int>(_mm_movemask_epi8(
+        _mm_packs_epi16(_mm_packs_epi32(Lanes(p), Lanes(p + 4)), _mm_packs_epi32(Lanes(p + 8), Lanes(p + 12)))));
+    }
+  }
+
+private:
+  __m128i
+  Lanes(const T * p) const
+  {
+    if constexpr (std::is_same<T, float>::value)
+    {
+      return _mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(p), _mm_castsi128_ps(m_T)));
+    }
+    else
+    {
+      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i *>(p));
+      if constexpr (std::is_same<T, uint8_t>::value)
+      {
+        return _mm_cmpeq_epi8(_mm_subs_epu8(m_T, v), _mm_setzero_si128());
+      }
+      else if constexpr (std::is_same<T, uint16_t>::value)
+      {
+        return _mm_cmpeq_epi16(_mm_subs_epu16(m_T, v), _mm_setzero_si128());
+      }
+      else if constexpr (std::is_same<T, int8_t>::value)
+      {
+        return _mm_cmpgt_epi8(m_T, v);
+      }
+      else
+      {
+        return _mm_cmpgt_epi16(m_T, v);
+      }
+    }
+  }
+
+  __m128i m_T;
+};
+
 /** Whether the 64 bytes at \a p hold a voxel on the other side than \a above: four
  * compares combined into one test. */
 template <typename T>
@@ -270,6 +343,75 @@ SmallIsoComponentThreshold<TPixel>::EncodeLine(const TPixel *                   
   bool                above = firstAbove;
   SizeValueType       runs = 1;
   starts.push_back(0);
+#if defined(__SSE2__)
+  if constexpr (SmallIsoComponentSse2::HasBelowBytes<TPixel>)
+  {
+    if (!m_AnyAbove)
+    {
+      labeling.SetLineRuns(line, 1, false);
+      return;
+    }
+    // One bit per voxel, set on one side of the isovalue, 64 voxels a word; a run starts
+    // where a voxel's bit differs from the previous voxel's.
+    const SmallIsoComponentSse2::SideBits<TPixel> sideBits(m_LowestAbove);
+    constexpr bool  marksAbove = SmallIsoComponentSse2::LanesAreAbove<TPixel>;
+    uint64_t        previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
+    SizeValueType   x = 0;
+    const auto      addStarts = [&](uint64_t change, SizeValueType base) {
+      for (; change != 0; change &= change - 1)
+      {
+        starts.push_back(static_cast<SmallIsoComponentRunLabeling::CoordinateType>(
+          base + static_cast<SizeValueType>(__builtin_ctzll(change))));
+        ++runs;
+      }
+    };
+    for (; x + 64 <= length; x += 64)
+    {
+      const uint64_t bits = uint64_t{ sideBits(values + x) } | uint64_t{ sideBits(values + x + 16) } << 16 |
+                            uint64_t{ sideBits(values + x + 32) } << 32 | uint64_t{ sideBits(values + x + 48) } << 48;
+      const uint64_t change = bits ^ (bits << 1 | previous);
+      previous = bits >> 63;
+      if (change != 0)
+      {
+        addStarts(change, x);
+      }
+    }
+    for (; x + 16 <= length; x += 16)
+    {
+      const uint64_t bits = sideBits(values + x);
+      const uint64_t change = (bits ^ (bits << 1 | previous)) & 0xFFFFu;
+      previous = bits >> 15;
+      if (change != 0)
+      {
+        addStarts(change, x);
+      }
+    }
+    if (x < length)
+    {
+      if (length >= 16)
+      {
+        // The last 16 voxels, of which the ones before x are done.
+        const SizeValueType last = length - 16;
+        const uint64_t      bits = sideBits(values + last);
+        addStarts((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
+      }
+      else
+      {
+        for (; x < length; ++x)
+        {
+          const uint64_t bit = this->IsAbove(values[x]) == marksAbove ? 1 : 0;
+          if (bit != previous)
+          {
+            addStarts(1, x);
+          }
+          previous = bit;
+        }
+      }
+    }
+    labeling.SetLineRuns(line, runs, firstAbove);
+    return;
+  }
+#endif
   for (SizeValueType x = this->NextSideChange(values, 1, length, above); x < length;
        x = this->NextSideChange(values, x + 1, length, above))
   {
