@@ -228,8 +228,8 @@ public:
 
   /** The same, given the runs of the flipped components in run order (as CollectRuns()
    * returns them), so that no run of the other components is visited. The neighbours of
-   * the flipped runs are looked up in parallel, in rounds of boundedly many runs;
-   * scratchBytes, if given, receives the most bytes those lookups held at once. */
+   * the flipped runs are looked up and joined in parallel (a lock-free union-find over
+   * components); scratchBytes, if given, receives the bytes it held. */
   void
   GroupAfterFlip(const std::vector<uint8_t> &      flipped,
                  const std::vector<LineRun> &      flippedRuns,

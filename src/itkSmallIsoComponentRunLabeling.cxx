@@ -18,26 +18,12 @@
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <numeric>
 
 namespace itk
 {
-namespace
-{
-/** Union-find over components with path halving, for GroupAfterFlip(). */
-SmallIsoComponentRunLabeling::ComponentIndexType
-FindRoot(std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> & parent,
-         SmallIsoComponentRunLabeling::ComponentIndexType                 c)
-{
-  while (parent[c] != c)
-  {
-    parent[c] = parent[parent[c]];
-    c = parent[c];
-  }
-  return c;
-}
-} // namespace
-
 void
 SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size,
                                          bool                               fullyConnected,
@@ -300,7 +286,32 @@ SmallIsoComponentRunLabeling::LinkInsideSlab(unsigned int slab)
   {
     // Face connectivity: one backward neighbour per axis 1..N-1, inside the image when the
     // line's coordinate along that axis is not 0.
-    const auto                 axes = static_cast<unsigned int>(coordinates.size());
+    const auto axes = static_cast<unsigned int>(coordinates.size());
+    if (axes == 2)
+    {
+      // 3-D: the line before along y, and the line one plane before along z.
+      const SizeValueType rows = m_Size[1];
+      const SizeValueType plane = rows;
+      SizeValueType       y = coordinates[0];
+      bool                zInside = coordinates[1] > 0;
+      for (SizeValueType line = begin; line < end; ++line)
+      {
+        if (y > 0)
+        {
+          this->LinkLines(line, line - 1);
+        }
+        if (zInside && line - begin >= plane)
+        {
+          this->LinkLines(line, line - plane);
+        }
+        if (++y == rows)
+        {
+          y = 0;
+          zInside = true;
+        }
+      }
+      return;
+    }
     std::vector<SizeValueType> stride(axes, 1);
     for (unsigned int a = 1; a < axes; ++a)
     {
@@ -457,35 +468,75 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
                                              MultiThreaderBase *               threader,
                                              SizeValueType *                   scratchBytes) const
 {
-  const SizeValueType             numberOfComponents = m_ComponentSize.size();
-  std::vector<ComponentIndexType> parent(numberOfComponents);
-  std::iota(parent.begin(), parent.end(), ComponentIndexType{ 0 });
+  const SizeValueType numberOfComponents = m_ComponentSize.size();
+  // A union-find over components that work units share without locks: a root is linked
+  // under another root by compare-and-swap, always the larger index under the smaller, so
+  // every root is the smallest component of its group whatever the order of the links;
+  // path halving only ever replaces a parent by one of its ancestors.
+  using AtomicComponent = std::atomic<ComponentIndexType>;
+  std::unique_ptr<AtomicComponent[]> parent(new AtomicComponent[numberOfComponents]);
+  for (SizeValueType c = 0; c < numberOfComponents; ++c)
+  {
+    parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
+  }
+  const auto find = [&parent](ComponentIndexType c) {
+    while (true)
+    {
+      const ComponentIndexType p = parent[c].load(std::memory_order_relaxed);
+      if (p == c)
+      {
+        return c;
+      }
+      const ComponentIndexType grandparent = parent[p].load(std::memory_order_relaxed);
+      if (grandparent != p)
+      {
+        parent[c].store(grandparent, std::memory_order_relaxed);
+      }
+      c = grandparent;
+    }
+  };
+  const auto join = [&parent, &find](ComponentIndexType a, ComponentIndexType b) {
+    while (true)
+    {
+      a = find(a);
+      b = find(b);
+      if (a == b)
+      {
+        return;
+      }
+      if (a < b)
+      {
+        std::swap(a, b);
+      }
+      ComponentIndexType expected = a;
+      if (parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
+      {
+        return;
+      }
+    }
+  };
 
   // Each flipped run touches the runs beside it in its line (runs alternate sides, so
-  // those are below) and the below runs it overlaps in the neighbouring lines. The pairs
-  // (flipped component, touched component) are found in parallel, in rounds of at most
-  // roundRuns runs per work unit, and joined serially; repeats of the previous pair are
-  // dropped on the way.
-  using Pair = std::pair<ComponentIndexType, ComponentIndexType>;
-  const SizeValueType               units = std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits());
-  constexpr SizeValueType           roundRuns = SizeValueType{ 1 } << 16;
-  std::vector<std::vector<Pair>>    pairs(units);
-  const SizeValueType               allowance = m_FullyConnected ? 1 : 0;
-  const RunIndexType * const        label = m_RunLabel.get();
-  const CoordinateType * const      runStart = m_RunStart.get();
-  SizeValueType                     scratch = 0;
-  const auto                        findPairs = [&](SizeValueType unit, SizeValueType first, SizeValueType last) {
-    auto &                     out = pairs[unit];
+  // those are below) and the below runs it overlaps in the neighbouring lines; its
+  // component joins theirs. Chunks of the flipped runs are handled in parallel; a repeat
+  // of the previous pair is skipped.
+  const SizeValueType          allowance = m_FullyConnected ? 1 : 0;
+  const RunIndexType * const   label = m_RunLabel.get();
+  const CoordinateType * const runStart = m_RunStart.get();
+  const auto                   joinNeighbors = [&](SizeValueType first, SizeValueType last) {
     std::vector<SizeValueType> coordinates;
     SizeValueType              coordinatesLine = NumericTraits<SizeValueType>::max();
     // Where the previous run of the same line stopped in each neighbouring line: runs of a
     // line come in order, so the search for the next one starts there.
     std::vector<SizeValueType> cursor(m_AllNeighbors.size());
-    out.clear();
-    const auto add = [&out](ComponentIndexType a, ComponentIndexType b) {
-      if (out.empty() || out.back().first != a || out.back().second != b)
+    ComponentIndexType         lastA = NoGroup;
+    ComponentIndexType         lastB = NoGroup;
+    const auto                 add = [&](ComponentIndexType a, ComponentIndexType b) {
+      if (a != lastA || b != lastB)
       {
-        out.emplace_back(a, b);
+        lastA = a;
+        lastB = b;
+        join(a, b);
       }
     };
     for (SizeValueType i = first; i < last; ++i)
@@ -522,9 +573,13 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
         const SizeValueType other = line + neighbor.LineOffset;
         const SizeValueType otherBegin = m_LineRunBegin[other];
         const SizeValueType otherEnd = m_LineRunBegin[other + 1];
-        // The run that contains x = from (at or after the cursor, often the cursor's next
-        // run), then every run that starts before end + allowance.
+        // The run that contains x = from: a few steps on from the cursor, else a binary
+        // search; then every run that starts before end + allowance.
         SizeValueType k = cursor[n] == NumericTraits<SizeValueType>::max() ? otherBegin : cursor[n];
+        for (unsigned int step = 0; step < 4 && k + 1 < otherEnd && runStart[k + 1] <= from; ++step)
+        {
+          ++k;
+        }
         if (k + 1 < otherEnd && runStart[k + 1] <= from)
         {
           k = static_cast<SizeValueType>(std::upper_bound(runStart + k + 1, runStart + otherEnd, from) - runStart) - 1;
@@ -541,38 +596,25 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       }
     }
   };
-
-  for (SizeValueType done = 0; done < flippedRuns.size();)
+  const SizeValueType chunks =
+    std::min<SizeValueType>(flippedRuns.size(), std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits()));
+  if (chunks == 1)
   {
-    const SizeValueType count = std::min<SizeValueType>(flippedRuns.size() - done, units * roundRuns);
-    const SizeValueType chunks = std::min<SizeValueType>(units, count);
-    const auto          chunkBegin = [&](SizeValueType chunk) { return done + chunk * count / chunks; };
-    if (chunks == 1)
-    {
-      findPairs(0, done, done + count);
-    }
-    else
-    {
-      threader->ParallelizeArray(
-        0, chunks, [&](SizeValueType chunk) { findPairs(chunk, chunkBegin(chunk), chunkBegin(chunk + 1)); }, nullptr);
-    }
-    SizeValueType held = 0;
-    for (SizeValueType chunk = 0; chunk < chunks; ++chunk)
-    {
-      held += pairs[chunk].capacity() * sizeof(Pair);
-      for (const Pair & pair : pairs[chunk])
-      {
-        const ComponentIndexType a = FindRoot(parent, pair.first);
-        const ComponentIndexType b = FindRoot(parent, pair.second);
-        parent[std::max(a, b)] = std::min(a, b);
-      }
-    }
-    scratch = std::max(scratch, held);
-    done += count;
+    joinNeighbors(0, flippedRuns.size());
+  }
+  else if (chunks > 1)
+  {
+    threader->ParallelizeArray(
+      0,
+      chunks,
+      [&](SizeValueType chunk) {
+        joinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
+      },
+      nullptr);
   }
   if (scratchBytes)
   {
-    *scratchBytes = scratch + parent.capacity() * sizeof(ComponentIndexType);
+    *scratchBytes = numberOfComponents * sizeof(AtomicComponent);
   }
 
   groupOfComponent.assign(numberOfComponents, NoGroup);
@@ -583,7 +625,7 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
     {
       continue;
     }
-    const ComponentIndexType root = FindRoot(parent, static_cast<ComponentIndexType>(c));
+    const ComponentIndexType root = find(static_cast<ComponentIndexType>(c));
     // Roots are the smallest member, so a root's group is numbered before its members.
     if (groupOfComponent[root] == NoGroup)
     {
