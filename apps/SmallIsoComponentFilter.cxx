@@ -31,7 +31,16 @@
 
 #include "itkMultiThreaderBase.h"
 
+#ifdef SIC_HAVE_VTK
+#  include "sicHeadlessDisplay.h"
+#  include "sicRender.h"
+#  include "sicSurface.h"
+
+#  include "vtkPolyData.h"
+#endif
+
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -50,6 +59,9 @@ DescribeTool()
   tool.Name = ToolName;
   tool.Usage = "SmallIsoComponentFilter INPUT OUTPUT --isovalue S [--max-size K | --max-volume V] "
                "[--side above|below|both] [--fully-connected] [--removed-mask FILE] [--stats FILE.json] "
+#ifdef SIC_HAVE_VTK
+               "[--surface FILE] [--surface-before FILE] [--render FILE.png] "
+#endif
                "[--threads N] [--quiet] [--progress-xml] [--xml] [--help]";
   tool.Description =
     "Removes the small connected components that noise leaves on either side of an isovalue S: specks of voxels "
@@ -147,6 +159,44 @@ DescribeTool()
                 parameter("file", "statsFile", "Statistics (JSON)", "Input/Output") };
   stats.Slicer.Channel = "output";
   stats.Slicer.FileExtensions = ".json";
+#ifdef SIC_HAVE_VTK
+  const auto geometry = [](const char * name, const char * label) {
+    SlicerParameter slicer;
+    slicer.Tag = "geometry";
+    slicer.Name = name;
+    slicer.Label = label;
+    slicer.Group = "Surfaces";
+    slicer.Channel = "output";
+    slicer.FileExtensions = ".vtp,.stl,.ply,.obj";
+    return slicer;
+  };
+  Option surface{ "--surface",
+                  "FILE",
+                  "Also write the isosurface of the filtered image at S, extracted with VTK's Flying Edges "
+                  "(vtkFlyingEdges3D, the same triangles as Marching Cubes), as " +
+                    sic::SupportedSurfaceExtensions() +
+                    " by FILE's extension. Points are in physical LPS coordinates (millimetres), honouring the "
+                    "image's spacing, origin and direction, as ITK maps voxel indices and as 3D Slicer reads "
+                    "models. 3-D images only.",
+                  "",
+                  geometry("surface", "Isosurface (filtered)") };
+  Option surfaceBefore{ "--surface-before",
+                        "FILE",
+                        "Also write the isosurface of the input image at S, in the same way as --surface.",
+                        "",
+                        geometry("surfaceBefore", "Isosurface (input)") };
+  Option render{ "--render",
+                 "FILE.png",
+                 "Also render, off screen, a PNG of four panels with one camera: the input's isosurface, the "
+                 "filtered one, only the removed pieces (the input's surface pieces that filtering took away "
+                 "whole; specks red, bubbles blue) and the filtered surface (translucent) with the removed pieces, "
+                 "each labelled with its number of pieces. Without an X display the tool starts a virtual one (Xvfb). "
+                 "3-D images only.",
+                 "",
+                 parameter("file", "render", "Rendering (PNG)", "Surfaces") };
+  render.Slicer.Channel = "output";
+  render.Slicer.FileExtensions = ".png";
+#endif
   Option threads{ "--threads",
                   "N",
                   "Number of threads (ITK work units) to use; 0 uses ITK's default (the number of cores, or "
@@ -176,6 +226,11 @@ DescribeTool()
     fullyConnected,
     removedMask,
     stats,
+#ifdef SIC_HAVE_VTK
+    surface,
+    surfaceBefore,
+    render,
+#endif
     threads,
     quiet,
     progressXml,
@@ -250,13 +305,17 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   settings.FullyConnected = arguments.Has("--fully-connected");
   settings.RemovedMask = arguments.Value("--removed-mask");
   settings.Stats = arguments.Value("--stats");
-  if (arguments.Has("--removed-mask") && settings.RemovedMask.empty())
+#ifdef SIC_HAVE_VTK
+  settings.Surface = arguments.Value("--surface");
+  settings.SurfaceBefore = arguments.Value("--surface-before");
+  settings.Render = arguments.Value("--render");
+#endif
+  for (const char * flag : { "--removed-mask", "--stats", "--surface", "--surface-before", "--render" })
   {
-    throw sic::ToolError("--removed-mask is empty; expected a file path");
-  }
-  if (arguments.Has("--stats") && settings.Stats.empty())
-  {
-    throw sic::ToolError("--stats is empty; expected a file path");
+    if (arguments.Has(flag) && arguments.Value(flag).empty())
+    {
+      throw sic::ToolError(std::string(flag) + " is empty; expected a file path");
+    }
   }
   if (arguments.Has("--threads"))
   {
@@ -299,7 +358,89 @@ struct StagedPaths
 {
   std::string Image;
   std::string RemovedMask;
+  std::string Surface;
+  std::string SurfaceBefore;
+  std::string Render;
 };
+
+#ifdef SIC_HAVE_VTK
+/** The isosurfaces of a run of the filter, kept in index coordinates until the removed
+ * triangles are known, then moved to physical coordinates and written or rendered. */
+template <typename TImage, typename TFilter>
+void
+WriteSurfaces(const sic::FilterSettings &         settings,
+              const StagedPaths &                 staged,
+              vtkSmartPointer<vtkPolyData>        before,
+              TFilter &                           filter,
+              sic::ProgressReporter &             progress,
+              sic::FilterReport &                 report)
+{
+  const TImage *            output = filter.GetOutput();
+  const sic::SurfaceGeometry geometry = sic::SurfaceGeometryOf(*output);
+  vtkSmartPointer<vtkPolyData> after;
+  if (!settings.Surface.empty() || !settings.Render.empty())
+  {
+    progress.Stage("extracting the filtered isosurface", 0.85, 0.88);
+    after = sic::ExtractIsosurface(sic::SurfaceGridOf(*output), settings.IsoValue);
+    report.SurfacePiecesAfter = sic::CountSurfacePieces(*after);
+  }
+  if (before)
+  {
+    report.SurfacePiecesBefore = sic::CountSurfacePieces(*before);
+  }
+  sic::RemovedTriangles removed;
+  if (before)
+  {
+    const auto & size = output->GetBufferedRegion().GetSize();
+    removed = sic::TrianglesOfChangedCells(
+      *before, filter.GetRemovedMask()->GetBufferPointer(), { { size[0], size[1], size[2] } }, true);
+    report.RemovedSurfacePieces = sic::CountSurfacePieces(*removed.All);
+  }
+  if (!settings.Render.empty())
+  {
+    for (vtkPolyData * surface : { removed.Specks.Get(), removed.Bubbles.Get() })
+    {
+      sic::TransformToPhysical(*surface, geometry);
+    }
+  }
+  for (vtkPolyData * surface : { before.Get(), after.Get() })
+  {
+    if (surface != nullptr)
+    {
+      sic::TransformToPhysical(*surface, geometry);
+    }
+  }
+  if (!settings.SurfaceBefore.empty())
+  {
+    progress.Stage("writing " + settings.SurfaceBefore, 0.88, 0.9);
+    sic::WriteSurface(*before, staged.SurfaceBefore, settings.SurfaceBefore, "input's isosurface");
+  }
+  if (!settings.Surface.empty())
+  {
+    progress.Stage("writing " + settings.Surface, 0.9, 0.92);
+    sic::WriteSurface(*after, staged.Surface, settings.Surface, "isosurface");
+  }
+  if (!settings.Render.empty())
+  {
+    progress.Stage("rendering " + settings.Render, 0.92, 0.95);
+    const auto pieces = [](std::uint64_t count) {
+      return std::to_string(count) + (count == 1 ? " piece" : " pieces");
+    };
+    sic::RenderScene scene;
+    scene.Before = before;
+    scene.After = after;
+    scene.RemovedSpecks = removed.Specks;
+    scene.RemovedBubbles = removed.Bubbles;
+    scene.Labels = { "Original: " + pieces(*report.SurfacePiecesBefore),
+                     "Filtered: " + pieces(*report.SurfacePiecesAfter),
+                     "Removed: " + pieces(*report.RemovedSurfacePieces) + " (specks red, bubbles blue)",
+                     "Filtered + removed: " + std::to_string(*report.SurfacePiecesAfter) + " + " +
+                       pieces(*report.RemovedSurfacePieces) };
+    const sic::HeadlessDisplay display;
+    sic::RenderPanels(scene, staged.Render, settings.Render);
+  }
+}
+#endif
 
 template <typename TImage>
 sic::FilterReport
@@ -309,6 +450,18 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
 
   progress.Stage("reading " + settings.Input, 0.0, 0.1);
   typename TImage::Pointer image = sic::ReadImage<TImage>(settings.Input, "input", progress.Observer());
+#ifdef SIC_HAVE_VTK
+  // The input's surface is taken before filtering in place overwrites the input.
+  vtkSmartPointer<vtkPolyData> before;
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    if (!settings.SurfaceBefore.empty() || !settings.Render.empty())
+    {
+      progress.Stage("extracting the input's isosurface", 0.1, 0.12);
+      before = sic::ExtractIsosurface(sic::SurfaceGridOf(*image), settings.IsoValue);
+    }
+  }
+#endif
 
   auto filter = FilterType::New();
   filter->SetInput(image);
@@ -337,16 +490,23 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   filter->Update();
   const auto stop = std::chrono::steady_clock::now();
 
-  progress.Stage("writing " + settings.Output, 0.85, settings.RemovedMask.empty() ? 1.0 : 0.95);
+  sic::FilterReport report;
+#ifdef SIC_HAVE_VTK
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    WriteSurfaces<TImage>(settings, staged, before, *filter, progress, report);
+  }
+#endif
+
+  progress.Stage("writing " + settings.Output, 0.95, settings.RemovedMask.empty() ? 1.0 : 0.98);
   sic::WriteImage(filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer());
   if (!settings.RemovedMask.empty())
   {
-    progress.Stage("writing " + settings.RemovedMask, 0.95, 1.0);
+    progress.Stage("writing " + settings.RemovedMask, 0.98, 1.0);
     sic::WriteImage(
       filter->GetRemovedMask(), staged.RemovedMask, settings.RemovedMask, "removed-voxel mask", progress.Observer());
   }
 
-  sic::FilterReport report;
   report.EffectiveMaximumSize = filter->GetEffectiveMaximumComponentSize();
   report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
   report.WorkUnits = filter->GetNumberOfWorkUnits();
@@ -377,6 +537,33 @@ Run(const sic::FilterSettings & settings)
     sic::CheckImageFileFormat(settings.RemovedMask, "removed-voxel mask", info.Dimension);
   }
   const std::string stagedStats = settings.Stats.empty() ? "" : outputs.Stage(settings.Stats, "statistics");
+#ifdef SIC_HAVE_VTK
+  const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
+  if (surfaces && info.Dimension != 3)
+  {
+    throw sic::ToolError("--surface, --surface-before and --render need a 3-D image and '" + settings.Input +
+                         "' is " + std::to_string(info.Dimension) + "-D; expected a volume");
+  }
+  if (!settings.Surface.empty())
+  {
+    sic::CheckSurfaceFileFormat(settings.Surface, "isosurface");
+    staged.Surface = outputs.Stage(settings.Surface, "isosurface");
+  }
+  if (!settings.SurfaceBefore.empty())
+  {
+    sic::CheckSurfaceFileFormat(settings.SurfaceBefore, "input's isosurface");
+    staged.SurfaceBefore = outputs.Stage(settings.SurfaceBefore, "input's isosurface");
+  }
+  if (!settings.Render.empty())
+  {
+    if (std::filesystem::path(settings.Render).extension() != ".png")
+    {
+      throw sic::ToolError("cannot write the rendering '" + settings.Render + "': expected a .png file");
+    }
+    staged.Render = outputs.Stage(settings.Render, "rendering");
+    sic::HeadlessDisplay::CheckAvailable();
+  }
+#endif
 
   if (settings.Threads > 0)
   {

@@ -31,6 +31,13 @@
 #include "sicToolMain.h"
 
 #include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentImageFilter.h"
+
+#ifdef SIC_HAVE_VTK
+#  include "sicSurface.h"
+
+#  include "vtkPolyData.h"
+#endif
 
 #include <algorithm>
 #include <filesystem>
@@ -57,6 +64,7 @@ struct ReportSettings
   std::optional<std::uint64_t> PlotSize;
   std::optional<double>        PlotIsoValue;
   std::uint64_t                Threads{ 0 };
+  bool                         Surfaces{ true };
 };
 
 sic::ToolDescription
@@ -67,13 +75,18 @@ DescribeTool()
   tool.Usage = "SmallIsoComponentReport INPUT --isovalue S [--isovalue S2 ...] [--isovalue-range START:STOP:STEP] "
                "[--sizes 1,5,10,20,50] [--sizes-range START:STOP:STEP] [--fully-connected] "
                "[--format markdown|csv|json] [--output FILE] [--plot FILE.png] [--plot-size K] "
-               "[--plot-isovalue S] [--threads N] [--help]";
+               "[--plot-isovalue S] [--no-surfaces] [--threads N] [--help]";
   tool.Description =
     "Measures what removing small components would do to a volume, without changing it: for every isovalue S, "
     "the active cubes (grid cells with corners on both sides of S, those Marching Cubes turns into triangles), "
     "the number of components above S (voxels >= S) and below S (all others, NaN included), and for every "
     "maximum size K the components of each side with at most K voxels and the voxels in them. Each side is "
-    "counted on the original volume. One labelling per isovalue serves every K.";
+    "counted on the original volume. One labelling per isovalue serves every K."
+#ifdef SIC_HAVE_VTK
+    " For 3-D images it also runs the filter with side both at every isovalue and K and counts the connected "
+    "pieces of the isosurface (VTK's Flying Edges) before and after filtering."
+#endif
+    ;
   tool.Positionals = { { "INPUT",
                          "The image to measure: a scalar 2-D or 3-D image with pixel type " +
                            sic::SupportedPixelTypes() + ".",
@@ -118,6 +131,13 @@ DescribeTool()
       "S",
       "The isovalue of the curves against K; one of the isovalues.",
       "the first --isovalue, or the range's START",
+      {} },
+    { "--no-surfaces",
+      "",
+      "Skip the filter runs and isosurface piece counts (which cost one filter run and one surface "
+      "extraction per isovalue and K; worth skipping for long sweeps). Only tools built with VTK count "
+      "surface pieces; without VTK this option changes nothing.",
+      "surfaces counted for 3-D images when built with VTK",
       {} },
     { "--threads",
       "N",
@@ -241,8 +261,47 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
                            std::to_string(ITK_MAX_THREADS));
     }
   }
+  settings.Surfaces = !arguments.Has("--no-surfaces");
   return settings;
 }
+
+#ifdef SIC_HAVE_VTK
+/** Runs the filter (side Both) at every isovalue and K of \a rows and counts the pieces of the
+ * isosurface before and after. */
+template <typename TImage>
+void
+MeasureSurfaces(const ReportSettings & settings, TImage & image, std::vector<sic::ReportRow> & rows)
+{
+  using FilterType = itk::SmallIsoComponentImageFilter<TImage>;
+  auto filter = FilterType::New();
+  filter->SetInput(&image);
+  filter->SetSide(itk::SmallIsoComponentEnums::Side::Both);
+  filter->SetFullyConnected(settings.FullyConnected);
+  if (settings.Threads > 0)
+  {
+    filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  for (sic::ReportRow & row : rows)
+  {
+    sic::FilteredRow filtered;
+    filtered.SurfacePiecesBefore =
+      sic::CountSurfacePieces(*sic::ExtractIsosurface(sic::SurfaceGridOf(image), row.IsoValue));
+    filter->SetIsoValue(row.IsoValue);
+    for (const std::uint64_t k : settings.MaximumSizes)
+    {
+      filter->SetMaximumComponentSize(k);
+      filter->Update();
+      filtered.RemovedComponents.push_back(
+        filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above) +
+        filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Below));
+      filtered.ModifiedVoxels.push_back(filter->GetNumberOfModifiedVoxels());
+      filtered.SurfacePiecesAfter.push_back(
+        sic::CountSurfacePieces(*sic::ExtractIsosurface(sic::SurfaceGridOf(*filter->GetOutput()), row.IsoValue)));
+    }
+    row.Filtered = std::move(filtered);
+  }
+}
+#endif
 
 template <typename TImage>
 std::vector<sic::ReportRow>
@@ -271,6 +330,15 @@ MeasureImage(const ReportSettings & settings, itk::MultiThreaderBase * threader)
     row.Below = sic::SummarizeSide(below, settings.MaximumSizes);
     rows.push_back(row);
   }
+#ifdef SIC_HAVE_VTK
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    if (settings.Surfaces)
+    {
+      MeasureSurfaces(settings, *image, rows);
+    }
+  }
+#endif
   return rows;
 }
 

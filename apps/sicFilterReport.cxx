@@ -80,6 +80,23 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
        << report.Above.RemovedVoxels << " voxels) and " << report.Below.RemovedComponents << " of "
        << report.Below.Components << " below components (" << report.Below.RemovedVoxels << " voxels); "
        << report.ModifiedVoxels << " voxels modified, " << report.UnrepairableVoxels << " unrepairable. ";
+  if (report.SurfacePiecesBefore || report.SurfacePiecesAfter)
+  {
+    text << "Isosurface pieces:";
+    if (report.SurfacePiecesBefore)
+    {
+      text << " " << *report.SurfacePiecesBefore << " before";
+    }
+    if (report.SurfacePiecesAfter)
+    {
+      text << (report.SurfacePiecesBefore ? ", " : " ") << *report.SurfacePiecesAfter << " after";
+    }
+    if (report.RemovedSurfacePieces)
+    {
+      text << " (" << *report.RemovedSurfacePieces << " removed)";
+    }
+    text << ". ";
+  }
   text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total "
        << report.TotalSeconds << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (")
        << report.WorkUnits << (report.WorkUnits == 1 ? " work unit)." : " work units).");
@@ -123,6 +140,15 @@ WriteStatisticsJson(std::ostream &         out,
     json.String(settings.RemovedMask);
   }
   json.Key("stats").String(settings.Stats);
+  for (const auto & [key, path] : { std::make_pair("surface", &settings.Surface),
+                                    std::make_pair("surface_before", &settings.SurfaceBefore),
+                                    std::make_pair("render", &settings.Render) })
+  {
+    if (!path->empty())
+    {
+      json.Key(key).String(*path);
+    }
+  }
   json.EndObject();
 
   json.Key("parameters").BeginObject();
@@ -157,6 +183,15 @@ WriteStatisticsJson(std::ostream &         out,
   json.Key("seconds").Number(report.FilterSeconds);
   json.Key("total_seconds").Number(report.TotalSeconds);
   json.Key("peak_extra_bytes").Number(report.PeakExtraBytes);
+  for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &report.SurfacePiecesBefore),
+                                      std::make_pair("surface_components_after", &report.SurfacePiecesAfter),
+                                      std::make_pair("removed_surface_components", &report.RemovedSurfacePieces) })
+  {
+    if (*pieces)
+    {
+      json.Key(key).Number(**pieces);
+    }
+  }
   json.EndObject();
 
   json.EndObject();

@@ -35,6 +35,11 @@ struct FilterSettings
   std::string                  Output;
   std::string                  RemovedMask;
   std::string                  Stats;
+  /** Isosurface outputs (tools built with VTK only): the filtered image's, the input's, and
+   * the four-panel picture. */
+  std::string                  Surface;
+  std::string                  SurfaceBefore;
+  std::string                  Render;
   double                       IsoValue{ 0.0 };
   /** The threshold in voxels; used unless MaximumVolume is set and positive. */
   std::uint64_t                MaximumSize{ 20 };
@@ -78,6 +83,11 @@ struct FilterReport
   std::uint64_t   ModifiedVoxels{ 0 };
   std::uint64_t   UnrepairableVoxels{ 0 };
   std::uint64_t   PeakExtraBytes{ 0 };
+  /** Connected pieces of the isosurface at the isovalue, when it was extracted: of the input,
+   * of the output, and of the triangles filtering took away. */
+  std::optional<std::uint64_t> SurfacePiecesBefore;
+  std::optional<std::uint64_t> SurfacePiecesAfter;
+  std::optional<std::uint64_t> RemovedSurfacePieces;
   /** Wall time of the filter itself, and of the whole run (reading and writing included). */
   double FilterSeconds{ 0.0 };
   double TotalSeconds{ 0.0 };

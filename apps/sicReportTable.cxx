@@ -67,6 +67,32 @@ WriteSideJson(JsonWriter & json, const SideRow & side, const std::vector<std::ui
   }
   json.EndArray().EndObject();
 }
+
+void
+WriteFilteredJson(JsonWriter & json, const FilteredRow & filtered, const std::vector<std::uint64_t> & maximumSizes)
+{
+  json.BeginObject().Key("side").String("both").Key("by_size").BeginArray();
+  for (size_t k = 0; k < maximumSizes.size(); ++k)
+  {
+    json.BeginObject()
+      .Key("max_size")
+      .Number(maximumSizes[k])
+      .Key("removed_components")
+      .Number(filtered.RemovedComponents[k])
+      .Key("modified_voxels")
+      .Number(filtered.ModifiedVoxels[k])
+      .Key("surface_components_after")
+      .Number(filtered.SurfacePiecesAfter[k])
+      .EndObject();
+  }
+  json.EndArray().EndObject();
+}
+
+bool
+HasFiltered(const Report & report)
+{
+  return !report.Rows.empty() && report.Rows.front().Filtered.has_value();
+}
 } // namespace
 
 SideRow
@@ -119,10 +145,19 @@ WriteReportMarkdown(std::ostream & stream, const Report & report)
          << (report.FullyConnected ? "full connectivity" : "face connectivity")
          << ". For each isovalue S and maximum size K: the components of each side (above: >= S, below: < S) "
             "with at most K voxels, the percentage they are of all components (above + below), and the voxels "
-            "in them. Active cubes are the grid cells with corners on both sides of S.\n\n"
-         << "| isovalue | active cubes | components | above | below | K | above removed | above % | above voxels "
-            "| below removed | below % | below voxels |\n"
-         << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+            "in them. Active cubes are the grid cells with corners on both sides of S.";
+  const bool filtered = HasFiltered(report);
+  if (filtered)
+  {
+    stream << " The last three columns are what the filter does with side both (its below pass runs on the "
+              "result of the above pass): the components it removes and the connected pieces of the "
+              "isosurface at S before and after filtering.";
+  }
+  stream << "\n\n| isovalue | active cubes | components | above | below | K | above removed | above % | above voxels "
+            "| below removed | below % | below voxels |"
+         << (filtered ? " both removed | surface pieces before | surface pieces after |" : "") << "\n"
+         << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << (filtered ? "---:|---:|---:|" : "")
+         << "\n";
   for (const ReportRow & row : report.Rows)
   {
     const std::uint64_t total = row.TotalComponents();
@@ -132,8 +167,13 @@ WriteReportMarkdown(std::ostream & stream, const Report & report)
              << row.Above.Components << " | " << row.Below.Components << " | " << report.MaximumSizes[k] << " | "
              << row.Above.RemovedComponents[k] << " | " << PercentText(row.Above.RemovedComponents[k], total)
              << " | " << row.Above.ModifiedVoxels[k] << " | " << row.Below.RemovedComponents[k] << " | "
-             << PercentText(row.Below.RemovedComponents[k], total) << " | " << row.Below.ModifiedVoxels[k]
-             << " |\n";
+             << PercentText(row.Below.RemovedComponents[k], total) << " | " << row.Below.ModifiedVoxels[k] << " |";
+      if (row.Filtered)
+      {
+        stream << ' ' << row.Filtered->RemovedComponents[k] << " | " << row.Filtered->SurfacePiecesBefore << " | "
+               << row.Filtered->SurfacePiecesAfter[k] << " |";
+      }
+      stream << '\n';
     }
   }
 }
@@ -142,7 +182,8 @@ void
 WriteReportCsv(std::ostream & stream, const Report & report)
 {
   stream << "input,connectivity,isovalue,active_cubes,total_components,side,components,max_size,"
-            "removed_components,removed_percent,modified_voxels\n";
+            "removed_components,removed_percent,modified_voxels"
+         << (HasFiltered(report) ? ",surface_components_before,surface_components_after" : "") << '\n';
   const std::string prefix =
     CsvField(report.Input) + "," + (report.FullyConnected ? "full" : "face") + ",";
   for (const ReportRow & row : report.Rows)
@@ -154,7 +195,24 @@ WriteReportCsv(std::ostream & stream, const Report & report)
       {
         stream << prefix << NumberText(row.IsoValue) << ',' << row.ActiveCubes << ',' << total << ',' << name << ','
                << side->Components << ',' << report.MaximumSizes[k] << ',' << side->RemovedComponents[k] << ','
-               << NumberText(Percent(side->RemovedComponents[k], total)) << ',' << side->ModifiedVoxels[k] << '\n';
+               << NumberText(Percent(side->RemovedComponents[k], total)) << ',' << side->ModifiedVoxels[k];
+        if (row.Filtered)
+        {
+          stream << ',' << row.Filtered->SurfacePiecesBefore << ',';
+        }
+        stream << '\n';
+      }
+    }
+    if (row.Filtered)
+    {
+      // The filter's own result: its two passes do not split into per-side component counts.
+      for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+      {
+        stream << prefix << NumberText(row.IsoValue) << ',' << row.ActiveCubes << ',' << total << ",both,,"
+               << report.MaximumSizes[k] << ',' << row.Filtered->RemovedComponents[k] << ','
+               << NumberText(Percent(row.Filtered->RemovedComponents[k], total)) << ','
+               << row.Filtered->ModifiedVoxels[k] << ',' << row.Filtered->SurfacePiecesBefore << ','
+               << row.Filtered->SurfacePiecesAfter[k] << '\n';
       }
     }
   }
@@ -183,6 +241,11 @@ WriteReportJson(std::ostream & stream, const Report & report)
     WriteSideJson(json, row.Above, report.MaximumSizes);
     json.Key("below");
     WriteSideJson(json, row.Below, report.MaximumSizes);
+    if (row.Filtered)
+    {
+      json.Key("surface_components_before").Number(row.Filtered->SurfacePiecesBefore).Key("filtered");
+      WriteFilteredJson(json, *row.Filtered, report.MaximumSizes);
+    }
     json.EndObject();
   }
   json.EndArray().EndObject().Finish();

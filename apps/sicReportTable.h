@@ -19,6 +19,7 @@
 #define sicReportTable_h
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -43,12 +44,25 @@ struct SideRow
   std::vector<std::uint64_t> ModifiedVoxels;
 };
 
+/** What the filter itself does with side Both at every K, and the isosurface it leaves
+ * (reports built with VTK, 3-D images). */
+struct FilteredRow
+{
+  std::uint64_t SurfacePiecesBefore{ 0 };
+  /** Per K: components the filter removed (above and below pass), voxels it modified, and
+   * the connected pieces of the isosurface of its output. */
+  std::vector<std::uint64_t> RemovedComponents;
+  std::vector<std::uint64_t> ModifiedVoxels;
+  std::vector<std::uint64_t> SurfacePiecesAfter;
+};
+
 struct ReportRow
 {
   double        IsoValue{ 0.0 };
   std::uint64_t ActiveCubes{ 0 };
   SideRow       Above;
   SideRow       Below;
+  std::optional<FilteredRow> Filtered;
 
   std::uint64_t
   TotalComponents() const
@@ -81,11 +95,13 @@ Percent(std::uint64_t removed, std::uint64_t total);
 std::string
 NumberText(double value);
 
-/** A heading, a sentence on the image, then one table row per isovalue and K. */
+/** A heading, a sentence on the image, then one table row per isovalue and K (with the
+ * filter's Both result and the isosurface's pieces when the rows have them). */
 void
 WriteReportMarkdown(std::ostream & stream, const Report & report);
 
-/** One line per isovalue, side and K, under a header line. */
+/** One line per isovalue, side and K, under a header line; side "both" lines give the
+ * filter's own result and the isosurface's pieces when the rows have them. */
 void
 WriteReportCsv(std::ostream & stream, const Report & report);
 

@@ -10,6 +10,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${SMALLISO_BUILD_DIR:-$root/build}
 data="$root/../shared/data"
 report="$build/apps/SmallIsoComponentReport"
+filter="$build/apps/SmallIsoComponentFilter"
 
 if [ ! -d "$data" ]; then
   echo "experiments: no data directory $data (the Open SciVis volumes live beside the project," \
@@ -60,8 +61,15 @@ for entry in "${volumes[@]}"; do
   start=$EPOCHREALTIME
   "$report" "$file" --isovalue "$isovalue" --isovalue-range "$sweep" --sizes-range 0:100:1 --format json \
     --output "$work/$name-sweep.json" --plot "$root/docs/experiments/$name.png" --plot-size 20 \
-    --plot-isovalue "$isovalue"
+    --plot-isovalue "$isovalue" --no-surfaces
   echo "$name $isovalue $sweep $start $EPOCHREALTIME" >>"$work/volumes.txt"
+  # The literature's three volumes also get the four-panel picture (tools built with VTK).
+  case "$name" in aneurism | bonsai | lobster)
+    if "$filter" --help | grep -- --render >/dev/null; then
+      "$filter" "$file" "$work/$name-filtered.nrrd" --isovalue "$isovalue" --max-size 20 --side both \
+        --render "$root/docs/experiments/$name-panels.png" --quiet
+    fi ;;
+  esac
 done
 if [ "$found" -eq 0 ]; then
   echo "experiments: none of the volumes is in $data" >&2
@@ -70,6 +78,7 @@ fi
 
 python3 - "$work" "$root/docs/experiments.md" "$(nproc)" <<'PYTHON'
 import json
+import os
 import sys
 
 work, document, cores = sys.argv[1:4]
@@ -159,6 +168,14 @@ for name, isovalue, sweep, start, stop in volumes:
                                            face["active_cubes"], full["above"]["components"],
                                            full["below"]["components"]))
     out.append("![%s: removal curves](experiments/%s.png)\n" % (name, name))
+    if "filtered" in face:
+        pieces = ", ".join("K = %d: %d" % (entry["max_size"], entry["surface_components_after"])
+                           for entry in face["filtered"]["by_size"])
+        out.append("Isosurface at S (Flying Edges): %d pieces; after the filter with side both and face "
+                   "connectivity: %s.\n" % (face["surface_components_before"], pieces))
+    if os.path.exists(os.path.join(os.path.dirname(document), "experiments", name + "-panels.png")):
+        out.append("![%s: the isosurface before, after, the removed pieces (specks red, bubbles blue) and both "
+                   "together, K = 20, side both](experiments/%s-panels.png)\n" % (name, name))
 
     sweep_report = load("%s/%s-sweep.json" % (work, name))
     sizes = [b["max_size"] for b in sweep_report["rows"][0]["above"]["by_size"]]

@@ -12,6 +12,8 @@ packages=(
   libgtest-dev            # GoogleTest
   python3                 # test helpers (XML and JSON checks)
   gnuplot-nox             # SmallIsoComponentReport --plot
+  libvtk9-dev libx11-dev  # isosurfaces, piece counts and --render (optional for the module)
+  xvfb libgl1-mesa-dri    # off-screen rendering on a machine without a display
 )
 
 missing=()

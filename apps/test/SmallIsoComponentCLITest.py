@@ -331,7 +331,10 @@ class SmallIsoComponentCLITest(unittest.TestCase):
         order of the description, with their defaults, then the indexed ones."""
         phantom = self.make_phantom()
         document = self.slicer_description()
-        outputs = {"removedMask": self.path("mask.nrrd"), "statsFile": self.path("stats.json")}
+        # Every output Slicer offers gets a file (the surface ones exist in tools built with VTK).
+        outputs = {"removedMask": self.path("mask.nrrd"), "statsFile": self.path("stats.json"),
+                   "surface": self.path("surface.vtp"), "surfaceBefore": self.path("surface-before.vtp"),
+                   "render": self.path("panels.png")}
         arguments, indexed = [], {}
         for group in document.getElementsByTagName("parameters"):
             for element in group.childNodes:
@@ -347,7 +350,7 @@ class SmallIsoComponentCLITest(unittest.TestCase):
                 flag = element.getElementsByTagName("longflag")[0].firstChild.data
                 if element.tagName == "boolean":
                     arguments += [flag] if default == "true" else []
-                elif element.tagName in ("image", "file"):
+                elif element.tagName in ("image", "file", "geometry"):
                     arguments += [flag, outputs[name]]
                 else:
                     arguments += [flag, default]
@@ -356,6 +359,9 @@ class SmallIsoComponentCLITest(unittest.TestCase):
         result = self.check(run(FILTER, *arguments), " ".join(arguments))
         self.assertIn("<filter-progress>", result.stdout)
         self.assertTrue(os.path.exists(self.path("out.nrrd")))
+        for name in ("surface", "surfaceBefore", "render"):
+            if ("<name>%s</name>" % name) in document.toxml():
+                self.assertTrue(os.path.exists(outputs[name]), name)
         self.assertEqual(self.nonzero(self.path("mask.nrrd")), load_json(self.path("stats.json"))["statistics"]["modified_voxels"])
 
     # Errors: one line, exit status 2, nothing written.

@@ -1,0 +1,439 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicSurface.h"
+
+#include "sicToolError.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFlyingEdges3D.h"
+#include "vtkIdList.h"
+#include "vtkImageData.h"
+#include "vtkOBJWriter.h"
+#include "vtkPLYWriter.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSTLWriter.h"
+#include "vtkXMLPolyDataWriter.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace sic
+{
+namespace
+{
+/** Collects the error messages a VTK object raises, instead of letting VTK print them. */
+class ErrorCollector : public vtkCommand
+{
+public:
+  static ErrorCollector *
+  New()
+  {
+    return new ErrorCollector;
+  }
+
+  void
+  Execute(vtkObject *, unsigned long, void * callData) override
+  {
+    if (callData != nullptr && Message.empty())
+    {
+      Message = OneLine(static_cast<const char *>(callData));
+    }
+  }
+
+  std::string Message;
+};
+
+/** NaN samples are below every isovalue for the filter; for vtkFlyingEdges3D they would give
+ * points with NaN coordinates. A copy with NaN replaced by the lowest finite value classifies
+ * the same way and puts the crossing next to the other end of the edge. */
+template <typename T>
+std::vector<T>
+WithoutNaN(const T * values, std::size_t count)
+{
+  std::vector<T> copy(values, values + count);
+  std::replace_if(
+    copy.begin(), copy.end(), [](T value) { return std::isnan(value); }, std::numeric_limits<T>::lowest());
+  return copy;
+}
+
+template <typename T>
+bool
+HasNaN(const T * values, std::size_t count)
+{
+  return std::any_of(values, values + count, [](T value) { return std::isnan(value); });
+}
+
+std::string
+LowerExtension(const std::string & path)
+{
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  return extension;
+}
+
+std::size_t
+Find(std::vector<vtkIdType> & parent, std::size_t node)
+{
+  while (parent[node] != static_cast<vtkIdType>(node))
+  {
+    parent[node] = parent[parent[node]];
+    node = static_cast<std::size_t>(parent[node]);
+  }
+  return node;
+}
+} // namespace
+
+vtkSmartPointer<vtkPolyData>
+ExtractIsosurface(const SurfaceGrid & grid, double isoValue)
+{
+  const std::size_t count = grid.Size[0] * grid.Size[1] * grid.Size[2];
+  if (grid.Size[0] < 2 || grid.Size[1] < 2 || grid.Size[2] < 2)
+  {
+    auto empty = vtkSmartPointer<vtkPolyData>::New();
+    empty->SetPoints(vtkSmartPointer<vtkPoints>::New());
+    empty->SetPolys(vtkSmartPointer<vtkCellArray>::New());
+    return empty;
+  }
+
+  // The image only borrows the buffer (or the NaN-free copy, which lives until the end).
+  std::vector<float>  floatCopy;
+  std::vector<double> doubleCopy;
+  const void *        buffer = grid.Buffer;
+  if (grid.ScalarType == VTK_FLOAT && HasNaN(static_cast<const float *>(buffer), count))
+  {
+    floatCopy = WithoutNaN(static_cast<const float *>(buffer), count);
+    buffer = floatCopy.data();
+  }
+  else if (grid.ScalarType == VTK_DOUBLE && HasNaN(static_cast<const double *>(buffer), count))
+  {
+    doubleCopy = WithoutNaN(static_cast<const double *>(buffer), count);
+    buffer = doubleCopy.data();
+  }
+
+  vtkSmartPointer<vtkDataArray> scalars = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(grid.ScalarType));
+  scalars->SetNumberOfComponents(1);
+  scalars->SetVoidArray(const_cast<void *>(buffer), static_cast<vtkIdType>(count), 1);
+  scalars->SetName("values");
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(static_cast<int>(grid.Size[0]), static_cast<int>(grid.Size[1]), static_cast<int>(grid.Size[2]));
+  image->SetOrigin(0.0, 0.0, 0.0);
+  image->SetSpacing(1.0, 1.0, 1.0);
+  image->GetPointData()->SetScalars(scalars);
+
+  auto contour = vtkSmartPointer<vtkFlyingEdges3D>::New();
+  contour->SetInputData(image);
+  contour->SetValue(0, isoValue);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->InterpolateAttributesOff();
+  auto errors = vtkSmartPointer<ErrorCollector>::New();
+  contour->AddObserver(vtkCommand::ErrorEvent, errors);
+  contour->Update();
+  if (!errors->Message.empty())
+  {
+    throw std::runtime_error("isosurface extraction failed: " + errors->Message);
+  }
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->ShallowCopy(contour->GetOutput());
+  if (surface->GetPoints() == nullptr)
+  {
+    surface->SetPoints(vtkSmartPointer<vtkPoints>::New());
+  }
+  if (surface->GetPolys() == nullptr)
+  {
+    surface->SetPolys(vtkSmartPointer<vtkCellArray>::New());
+  }
+  return surface;
+}
+
+void
+TransformToPhysical(vtkPolyData & surface, const SurfaceGeometry & geometry)
+{
+  // M = Direction · diag(Spacing), so that p = Origin + M · index, as ITK maps indices.
+  double matrix[9];
+  for (int row = 0; row < 3; ++row)
+  {
+    for (int column = 0; column < 3; ++column)
+    {
+      matrix[3 * row + column] = geometry.Direction[3 * row + column] * geometry.Spacing[column];
+    }
+  }
+  vtkPoints * points = surface.GetPoints();
+  if (points == nullptr)
+  {
+    return;
+  }
+  // Double precision keeps the physical coordinates as exact as ITK's own mapping.
+  auto physical = vtkSmartPointer<vtkPoints>::New();
+  physical->SetDataTypeToDouble();
+  physical->SetNumberOfPoints(points->GetNumberOfPoints());
+  for (vtkIdType id = 0; id < points->GetNumberOfPoints(); ++id)
+  {
+    double index[3];
+    points->GetPoint(id, index);
+    double point[3];
+    for (int row = 0; row < 3; ++row)
+    {
+      point[row] = geometry.Origin[row] + matrix[3 * row] * index[0] + matrix[3 * row + 1] * index[1] +
+                   matrix[3 * row + 2] * index[2];
+    }
+    physical->SetPoint(id, point);
+  }
+  surface.SetPoints(physical);
+
+  const double determinant = matrix[0] * (matrix[4] * matrix[8] - matrix[5] * matrix[7]) -
+                             matrix[1] * (matrix[3] * matrix[8] - matrix[5] * matrix[6]) +
+                             matrix[2] * (matrix[3] * matrix[7] - matrix[4] * matrix[6]);
+  if (determinant < 0.0 && surface.GetPolys() != nullptr)
+  {
+    vtkCellArray * polys = surface.GetPolys();
+    for (vtkIdType cell = 0; cell < polys->GetNumberOfCells(); ++cell)
+    {
+      polys->ReverseCellAtId(cell);
+    }
+  }
+}
+
+std::uint64_t
+CountSurfacePieces(vtkPolyData & surface)
+{
+  vtkCellArray * polys = surface.GetPolys();
+  if (polys == nullptr || polys->GetNumberOfCells() == 0)
+  {
+    return 0;
+  }
+  const auto           pointCount = static_cast<std::size_t>(surface.GetNumberOfPoints());
+  std::vector<vtkIdType> parent(pointCount);
+  std::iota(parent.begin(), parent.end(), vtkIdType{ 0 });
+  std::vector<bool> used(pointCount, false);
+  auto              cells = vtk::TakeSmartPointer(polys->NewIterator());
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+  {
+    vtkIdType         size = 0;
+    const vtkIdType * ids = nullptr;
+    cells->GetCurrentCell(size, ids);
+    for (vtkIdType corner = 0; corner < size; ++corner)
+    {
+      used[static_cast<std::size_t>(ids[corner])] = true;
+      const std::size_t a = Find(parent, static_cast<std::size_t>(ids[0]));
+      const std::size_t b = Find(parent, static_cast<std::size_t>(ids[corner]));
+      parent[std::max(a, b)] = static_cast<vtkIdType>(std::min(a, b));
+    }
+  }
+  std::uint64_t pieces = 0;
+  for (std::size_t point = 0; point < pointCount; ++point)
+  {
+    pieces += used[point] && Find(parent, point) == point;
+  }
+  return pieces;
+}
+
+RemovedTriangles
+TrianglesOfChangedCells(vtkPolyData &                      surface,
+                        const std::uint8_t *               mask,
+                        const std::array<std::size_t, 3> & size,
+                        bool                               wholePiecesOnly)
+{
+  RemovedTriangles removed;
+  // Per triangle: 0 unchanged, 1 a speck's, 2 a bubble's.
+  std::vector<std::uint8_t> kind;
+  auto specks = vtkSmartPointer<vtkCellArray>::New();
+  auto bubbles = vtkSmartPointer<vtkCellArray>::New();
+  auto all = vtkSmartPointer<vtkCellArray>::New();
+  vtkCellArray * polys = surface.GetPolys();
+  vtkPoints *    points = surface.GetPoints();
+  if (polys != nullptr && points != nullptr && size[0] >= 2 && size[1] >= 2 && size[2] >= 2)
+  {
+    const std::size_t strideY = size[0];
+    const std::size_t strideZ = size[0] * size[1];
+    auto              cells = vtk::TakeSmartPointer(polys->NewIterator());
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+    {
+      vtkIdType         count = 0;
+      const vtkIdType * ids = nullptr;
+      cells->GetCurrentCell(count, ids);
+      // The cell holding the triangle: per axis the lowest coordinate of its points, rounded
+      // down (a triangle flat on a cell face may take either cell: both hold that face).
+      double lowest[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                           std::numeric_limits<double>::max() };
+      for (vtkIdType corner = 0; corner < count; ++corner)
+      {
+        double point[3];
+        points->GetPoint(ids[corner], point);
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          lowest[axis] = std::min(lowest[axis], point[axis]);
+        }
+      }
+      std::size_t cell[3];
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const double low = std::floor(std::max(lowest[axis], 0.0));
+        cell[axis] = std::min(static_cast<std::size_t>(low), size[axis] - 2);
+      }
+      bool speck = false;
+      bool bubble = false;
+      for (int corner = 0; corner < 8; ++corner)
+      {
+        const std::size_t offset = (cell[0] + (corner & 1)) + (cell[1] + ((corner >> 1) & 1)) * strideY +
+                                   (cell[2] + ((corner >> 2) & 1)) * strideZ;
+        speck = speck || mask[offset] == 1;
+        bubble = bubble || mask[offset] == 2;
+      }
+      kind.push_back(speck ? 1 : bubble ? 2 : 0);
+    }
+    // A piece is taken away whole when none of its triangles is unchanged.
+    std::vector<vtkIdType> parent;
+    std::vector<bool>      keptPiece;
+    if (wholePiecesOnly)
+    {
+      const auto pointCount = static_cast<std::size_t>(surface.GetNumberOfPoints());
+      parent.resize(pointCount);
+      std::iota(parent.begin(), parent.end(), vtkIdType{ 0 });
+      keptPiece.assign(pointCount, false);
+      for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+      {
+        vtkIdType         count = 0;
+        const vtkIdType * ids = nullptr;
+        cells->GetCurrentCell(count, ids);
+        for (vtkIdType corner = 1; corner < count; ++corner)
+        {
+          const std::size_t a = Find(parent, static_cast<std::size_t>(ids[0]));
+          const std::size_t b = Find(parent, static_cast<std::size_t>(ids[corner]));
+          parent[std::max(a, b)] = static_cast<vtkIdType>(std::min(a, b));
+        }
+      }
+      std::size_t triangle = 0;
+      for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++triangle)
+      {
+        vtkIdType         count = 0;
+        const vtkIdType * ids = nullptr;
+        cells->GetCurrentCell(count, ids);
+        if (kind[triangle] == 0)
+        {
+          keptPiece[Find(parent, static_cast<std::size_t>(ids[0]))] = true;
+        }
+      }
+    }
+    std::size_t triangle = 0;
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++triangle)
+    {
+      vtkIdType         count = 0;
+      const vtkIdType * ids = nullptr;
+      cells->GetCurrentCell(count, ids);
+      if (kind[triangle] == 0 || (wholePiecesOnly && keptPiece[Find(parent, static_cast<std::size_t>(ids[0]))]))
+      {
+        continue;
+      }
+      (kind[triangle] == 1 ? specks : bubbles)->InsertNextCell(count, ids);
+      all->InsertNextCell(count, ids);
+    }
+  }
+  const auto make = [&surface](vtkCellArray * triangles) {
+    auto result = vtkSmartPointer<vtkPolyData>::New();
+    result->SetPoints(surface.GetPoints() != nullptr ? surface.GetPoints() : vtkSmartPointer<vtkPoints>::New().Get());
+    result->SetPolys(triangles);
+    return result;
+  };
+  removed.Specks = make(specks);
+  removed.Bubbles = make(bubbles);
+  removed.All = make(all);
+  return removed;
+}
+
+std::string
+SupportedSurfaceExtensions()
+{
+  return ".vtp, .stl, .ply or .obj";
+}
+
+void
+CheckSurfaceFileFormat(const std::string & path, const std::string & what)
+{
+  const std::string extension = LowerExtension(path);
+  if (extension != ".vtp" && extension != ".stl" && extension != ".ply" && extension != ".obj")
+  {
+    throw ToolError("cannot write the " + what + " '" + path + "': " +
+                    (extension.empty() ? std::string("it has no extension")
+                                       : "the extension '" + extension + "' is not a surface format") +
+                    "; expected " + SupportedSurfaceExtensions());
+  }
+}
+
+void
+WriteSurface(vtkPolyData & surface, const std::string & stagedPath, const std::string & finalPath,
+             const std::string & what)
+{
+  const auto write = [&](auto writer) {
+    auto errors = vtkSmartPointer<ErrorCollector>::New();
+    writer->AddObserver(vtkCommand::ErrorEvent, errors);
+    writer->SetInputData(&surface);
+    writer->SetFileName(stagedPath.c_str());
+    const int       written = writer->Write();
+    std::error_code error;
+    if (written != 1 || writer->GetErrorCode() != 0 || !errors->Message.empty() ||
+        !std::filesystem::exists(stagedPath, error))
+    {
+      throw ToolError("cannot write the " + what + " to '" + finalPath + "'" +
+                      (errors->Message.empty() ? std::string() : ": " + errors->Message));
+    }
+  };
+  const std::string extension = LowerExtension(finalPath);
+  if (extension == ".vtp")
+  {
+    auto writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorTypeToZLib();
+    write(writer);
+  }
+  else if (extension == ".stl")
+  {
+    auto writer = vtkSmartPointer<vtkSTLWriter>::New();
+    writer->SetFileTypeToBinary();
+    write(writer);
+  }
+  else if (extension == ".ply")
+  {
+    auto writer = vtkSmartPointer<vtkPLYWriter>::New();
+    writer->SetFileTypeToBinary();
+    write(writer);
+  }
+  else if (extension == ".obj")
+  {
+    write(vtkSmartPointer<vtkOBJWriter>::New());
+  }
+  else
+  {
+    CheckSurfaceFileFormat(finalPath, what);
+  }
+}
+} // namespace sic

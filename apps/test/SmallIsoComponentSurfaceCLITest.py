@@ -1,0 +1,319 @@
+#!/usr/bin/env python3
+# Copyright SmallIsoComponent contributors. Licensed under the Apache License, Version 2.0.
+"""Tests of the tools' isosurface options (--surface, --surface-before, --render, the
+report's surface piece counts), run by CTest one test method at a time. Every test is
+skipped, saying why, when the tools were built without VTK.
+
+Environment (set by apps/test/CMakeLists.txt):
+  SIC_FILTER, SIC_PHANTOM, SIC_PROBE, SIC_REPORT  the tools and the CLI test probe
+  SIC_HAVE_VTK  1 when the tools were built with VTK
+  SIC_SCRATCH   a directory for the tests' files
+"""
+import csv
+import io
+import json
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import unittest
+import zlib
+
+FILTER = os.environ.get("SIC_FILTER", "")
+PHANTOM = os.environ.get("SIC_PHANTOM", "")
+PROBE = os.environ.get("SIC_PROBE", "")
+REPORT = os.environ.get("SIC_REPORT", "")
+HAVE_VTK = os.environ.get("SIC_HAVE_VTK", "0") == "1"
+SCRATCH = os.environ.get("SIC_SCRATCH", tempfile.gettempdir())
+PHANTOM_ISOVALUE = "150"
+USAGE_ERROR = 2
+NO_VTK = "skipped: the tools were built without VTK (install libvtk9-dev, or run scripts/setup.sh, and reconfigure)"
+
+
+def run(*arguments, env=None):
+    return subprocess.run([str(a) for a in arguments], capture_output=True, text=True, timeout=600, env=env)
+
+
+def load_json(path):
+    with open(path, encoding="utf-8") as file:
+        return json.load(file)
+
+
+def read_png(path):
+    """Width, height and rows of RGB pixels of an 8-bit RGB or RGBA PNG."""
+    with open(path, "rb") as file:
+        data = file.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(path + " is not a PNG")
+    position = 8
+    idat = b""
+    width = height = channels = None
+    while position < len(data):
+        (length,) = struct.unpack(">I", data[position:position + 4])
+        kind = data[position + 4:position + 8]
+        body = data[position + 8:position + 8 + length]
+        position += 12 + length
+        if kind == b"IHDR":
+            width, height, depth, colour = struct.unpack(">IIBB", body[:10])
+            if depth != 8 or colour not in (2, 6):
+                raise ValueError("unexpected PNG format: depth %d colour type %d" % (depth, colour))
+            channels = 3 if colour == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            break
+    raw = zlib.decompress(idat)
+    stride = width * channels
+    rows = []
+    previous = bytearray(stride)
+    offset = 0
+    for _ in range(height):
+        kind = raw[offset]
+        line = bytearray(raw[offset + 1:offset + 1 + stride])
+        offset += 1 + stride
+        for i in range(stride):
+            left = line[i - channels] if i >= channels else 0
+            up = previous[i]
+            upper_left = previous[i - channels] if i >= channels else 0
+            if kind == 1:
+                line[i] = (line[i] + left) & 255
+            elif kind == 2:
+                line[i] = (line[i] + up) & 255
+            elif kind == 3:
+                line[i] = (line[i] + ((left + up) >> 1)) & 255
+            elif kind == 4:
+                p = left + up - upper_left
+                pa, pb, pc = abs(p - left), abs(p - up), abs(p - upper_left)
+                predictor = left if pa <= pb and pa <= pc else (up if pb <= pc else upper_left)
+                line[i] = (line[i] + predictor) & 255
+        rows.append([tuple(line[i:i + 3]) for i in range(0, stride, channels)])
+        previous = line
+    return width, height, rows
+
+
+def is_red(pixel):
+    r, g, b = pixel
+    return r > 80 and r > 2 * g and r > 2 * b
+
+
+def is_blue(pixel):
+    r, g, b = pixel
+    return b > 80 and b > 1.5 * r and b > 1.3 * g
+
+
+def is_surface(pixel):
+    r, g, b = pixel
+    return r > 60 and 0.85 * r < g <= r and 0.7 * r < b < 0.93 * r
+
+
+class SmallIsoComponentSurfaceCLITest(unittest.TestCase):
+    def setUp(self):
+        if not HAVE_VTK:
+            self.skipTest(NO_VTK)
+        os.makedirs(SCRATCH, exist_ok=True)
+        self.dir = tempfile.mkdtemp(prefix=self.id().split(".")[-1] + "-", dir=SCRATCH)
+
+    def tearDown(self):
+        if HAVE_VTK:
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+    def path(self, *names):
+        return os.path.join(self.dir, *names)
+
+    def check(self, result, message=""):
+        self.assertEqual(result.returncode, 0, message + "\nstdout:\n" + result.stdout + "\nstderr:\n" + result.stderr)
+        return result
+
+    def phantom(self, size="48"):
+        path = self.path("phantom.nrrd")
+        self.check(run(PHANTOM, path, "--size", size))
+        return path
+
+    def stl_triangles(self, path):
+        with open(path, "rb") as file:
+            data = file.read()
+        (count,) = struct.unpack("<I", data[80:84])
+        self.assertEqual(len(data), 84 + 50 * count, "binary STL size")
+        return count
+
+    def test_surface_files_in_every_format(self):
+        phantom = self.phantom()
+        counts = {}
+        for extension in (".vtp", ".stl", ".ply", ".obj"):
+            after = self.path("after" + extension)
+            before = self.path("before" + extension)
+            stats = self.path("stats" + extension + ".json")
+            self.check(run(FILTER, phantom, self.path("out" + extension + ".nrrd"), "--isovalue", PHANTOM_ISOVALUE,
+                           "--surface", after, "--surface-before", before, "--stats", stats, "--quiet"))
+            for path in (after, before):
+                with open(path, "rb") as file:
+                    head = file.read(200)
+                if extension == ".vtp":
+                    self.assertIn(b"<VTKFile", head)
+                    self.assertIn(b'type="PolyData"', head)
+                elif extension == ".ply":
+                    self.assertTrue(head.startswith(b"ply\n"), head[:20])
+                elif extension == ".obj":
+                    with open(path, encoding="ascii", errors="replace") as file:
+                        kinds = {line.split(" ", 1)[0] for line in file if line.strip()}
+                    self.assertTrue({"v", "f"} <= kinds, kinds)
+            report = load_json(stats)
+            statistics = report["statistics"]
+            counts[extension] = (statistics["surface_components_before"], statistics["surface_components_after"])
+            self.assertEqual(report["outputs"]["surface"], after)
+            self.assertEqual(report["outputs"]["surface_before"], before)
+        # The phantom has specks and bubbles: filtering removes pieces, the same in every run.
+        self.assertEqual(len(set(counts.values())), 1, counts)
+        before_pieces, after_pieces = counts[".vtp"]
+        self.assertGreater(before_pieces, after_pieces)
+        self.assertGreaterEqual(after_pieces, 1)
+        self.assertLess(self.stl_triangles(self.path("after.stl")), self.stl_triangles(self.path("before.stl")))
+
+    def test_surface_needs_3d_and_a_surface_extension(self):
+        image2d = self.path("slice.nrrd")
+        self.check(run(PROBE, "make", image2d, "int16", 2))
+        cases = [
+            ([image2d, self.path("o.nrrd"), "--isovalue", "50", "--surface", self.path("s.vtp")], "3-D"),
+            ([self.phantom(), self.path("o.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--surface", self.path("s.vtk")],
+             ".vtp"),
+            ([self.path("phantom.nrrd"), self.path("o.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--render",
+              self.path("r.jpg")], ".png"),
+        ]
+        for arguments, expected in cases:
+            before = sorted(os.listdir(self.dir))
+            result = run(FILTER, *arguments)
+            self.assertEqual(result.returncode, USAGE_ERROR, result.stderr)
+            self.assertIn(expected, result.stderr)
+            self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+            self.assertEqual(sorted(os.listdir(self.dir)), before, "nothing may be written")
+
+    def test_render_four_panels_headless(self):
+        phantom = self.phantom()
+        picture = self.path("panels.png")
+        stats = self.path("stats.json")
+        environment = dict(os.environ)
+        environment.pop("DISPLAY", None)  # no display: the tool starts Xvfb itself
+        self.check(run(FILTER, phantom, self.path("out.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--render", picture,
+                       "--stats", stats, "--quiet", env=environment))
+        width, height, rows = read_png(picture)
+        self.assertEqual((width, height), (1600, 1200))
+        half_w, half_h = width // 2, height // 2
+        panels = []
+        for top in (0, half_h):
+            for left in (0, half_w):
+                pixels = [pixel for row in rows[top:top + half_h] for pixel in row[left:left + half_w]]
+                panels.append(pixels)
+        counts = [{"red": sum(map(is_red, p)), "blue": sum(map(is_blue, p)), "surface": sum(map(is_surface, p))}
+                  for p in panels]
+        message = str(counts)
+        # Original and filtered: the surface, no removed pieces.
+        for panel in (0, 1):
+            self.assertGreater(counts[panel]["surface"], 1000, message)
+            self.assertEqual(counts[panel]["red"], 0, message)
+            self.assertEqual(counts[panel]["blue"], 0, message)
+        # Removed only: specks and bubbles, no surface.
+        self.assertGreater(counts[2]["red"], 20, message)
+        self.assertGreater(counts[2]["blue"], 20, message)
+        self.assertEqual(counts[2]["surface"], 0, message)
+        # Filtered and removed together: the surface and the specks (bubbles show through it).
+        self.assertGreater(counts[3]["surface"], 1000, message)
+        self.assertGreater(counts[3]["red"], 20, message)
+        self.assertGreater(counts[3]["blue"], 0, message)
+        # The original and the filtered surface differ (the specks were part of the original).
+        self.assertNotEqual(panels[0], panels[1])
+        statistics = load_json(stats)["statistics"]
+        self.assertGreater(statistics["surface_components_before"], statistics["surface_components_after"])
+        self.assertGreater(statistics["removed_surface_components"], 0)
+
+    def test_render_without_display_or_xvfb_is_refused(self):
+        phantom = self.phantom()
+        environment = dict(os.environ)
+        environment.pop("DISPLAY", None)
+        environment["PATH"] = self.path("no-programs-here")
+        output = self.path("out.nrrd")
+        result = run(FILTER, phantom, output, "--isovalue", PHANTOM_ISOVALUE, "--render", self.path("r.png"),
+                     env=environment)
+        self.assertEqual(result.returncode, USAGE_ERROR, result.stderr)
+        self.assertIn("Xvfb", result.stderr)
+        self.assertEqual(sorted(os.listdir(self.dir)), ["phantom.nrrd"], "nothing may be written")
+
+    def test_report_counts_match_the_filter(self):
+        phantom = self.phantom()
+        report_path = self.path("report.json")
+        self.check(run(REPORT, phantom, "--isovalue", PHANTOM_ISOVALUE, "--isovalue", "300", "--sizes", "0,5,20",
+                       "--format", "json", "--output", report_path))
+        report = load_json(report_path)
+        for row in report["rows"]:
+            isovalue = row["isovalue"]
+            filtered = row["filtered"]
+            self.assertEqual(filtered["side"], "both")
+            for entry in filtered["by_size"]:
+                stats = self.path("stats-%s-%d.json" % (isovalue, entry["max_size"]))
+                self.check(run(FILTER, phantom, self.path("out.nrrd"), "--isovalue", repr(isovalue), "--max-size",
+                               entry["max_size"], "--surface", self.path("s.vtp"), "--surface-before",
+                               self.path("b.vtp"), "--stats", stats, "--quiet"))
+                statistics = load_json(stats)["statistics"]
+                self.assertEqual(row["surface_components_before"], statistics["surface_components_before"])
+                self.assertEqual(entry["surface_components_after"], statistics["surface_components_after"])
+                self.assertEqual(entry["removed_components"],
+                                 statistics["above"]["removed_components"] + statistics["below"]["removed_components"])
+                self.assertEqual(entry["modified_voxels"], statistics["modified_voxels"])
+                if entry["max_size"] == 0:
+                    self.assertEqual(entry["surface_components_after"], row["surface_components_before"])
+        self.assertGreater(report["rows"][0]["surface_components_before"],
+                           report["rows"][0]["filtered"]["by_size"][-1]["surface_components_after"])
+
+    def test_report_surface_columns_in_every_format(self):
+        phantom = self.phantom("32")
+        arguments = ["--isovalue", PHANTOM_ISOVALUE, "--isovalue", "120", "--sizes", "1,20"]
+        report = json.loads(self.check(run(REPORT, phantom, "--format", "json", *arguments)).stdout)
+        row = report["rows"][0]
+        self.assertEqual(list(row), ["isovalue", "active_cubes", "total_components", "above", "below",
+                                     "surface_components_before", "filtered"])
+        self.assertEqual(list(row["filtered"]), ["side", "by_size"])
+        self.assertEqual(list(row["filtered"]["by_size"][0]),
+                         ["max_size", "removed_components", "modified_voxels", "surface_components_after"])
+        lines = list(csv.DictReader(io.StringIO(self.check(run(REPORT, phantom, "--format", "csv",
+                                                               *arguments)).stdout)))
+        self.assertEqual(len(lines), 2 * 3 * 2)  # isovalues x (above, below, both) x sizes
+        for line in lines:
+            row = next(r for r in report["rows"] if r["isovalue"] == float(line["isovalue"]))
+            self.assertEqual(int(line["surface_components_before"]), row["surface_components_before"])
+            if line["side"] == "both":
+                entry = next(e for e in row["filtered"]["by_size"] if e["max_size"] == int(line["max_size"]))
+                self.assertEqual(int(line["surface_components_after"]), entry["surface_components_after"])
+                self.assertEqual(int(line["removed_components"]), entry["removed_components"])
+                self.assertEqual(int(line["modified_voxels"]), entry["modified_voxels"])
+            else:
+                self.assertEqual(line["surface_components_after"], "")
+        markdown = self.check(run(REPORT, phantom, *arguments)).stdout
+        table = [line for line in markdown.splitlines() if line.startswith("| ") and line[2].isdigit()]
+        self.assertEqual(len(table), 4)
+        for line in table:
+            cells = [cell.strip() for cell in line.strip("|").split("|")]
+            row = next(r for r in report["rows"] if r["isovalue"] == float(cells[0]))
+            entry = next(e for e in row["filtered"]["by_size"] if e["max_size"] == int(cells[5]))
+            self.assertEqual([int(c) for c in cells[-3:]], [entry["removed_components"],
+                                                            row["surface_components_before"],
+                                                            entry["surface_components_after"]])
+
+    def test_report_without_surfaces(self):
+        phantom = self.phantom("24")
+        with_surfaces = self.check(run(REPORT, phantom, "--isovalue", PHANTOM_ISOVALUE, "--format", "json")).stdout
+        without = self.check(run(REPORT, phantom, "--isovalue", PHANTOM_ISOVALUE, "--format", "json",
+                                 "--no-surfaces")).stdout
+        self.assertIn("surface_components_before", with_surfaces)
+        self.assertNotIn("surface_components_before", without)
+        self.assertNotIn("filtered", json.loads(without)["rows"][0])
+        # Everything else is the same.
+        full = json.loads(with_surfaces)
+        for row in full["rows"]:
+            del row["surface_components_before"]
+            del row["filtered"]
+        self.assertEqual(full, json.loads(without))
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
