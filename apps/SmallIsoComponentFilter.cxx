@@ -384,13 +384,10 @@ WriteSurfaces(const sic::FilterSettings &         settings,
     after = sic::ExtractIsosurface(sic::SurfaceGridOf(*output), settings.IsoValue);
     report.SurfacePiecesAfter = sic::CountSurfacePieces(*after);
   }
-  if (before)
-  {
-    report.SurfacePiecesBefore = sic::CountSurfacePieces(*before);
-  }
   sic::RemovedTriangles removed;
   if (before)
   {
+    report.SurfacePiecesBefore = sic::CountSurfacePieces(*before);
     const auto & size = output->GetBufferedRegion().GetSize();
     removed = sic::TrianglesOfChangedCells(
       *before, filter.GetRemovedMask()->GetBufferPointer(), { { size[0], size[1], size[2] } }, true);

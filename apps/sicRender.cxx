@@ -18,11 +18,11 @@
 #include "sicRender.h"
 
 #include "sicToolError.h"
+#include "sicVtkErrors.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
-#include "vtkCommand.h"
 #include "vtkPNGWriter.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -71,21 +71,6 @@ SurfaceActor(vtkPolyData * surface, const std::array<double, 3> & colour, double
   return actor;
 }
 
-class ErrorFlag : public vtkCommand
-{
-public:
-  static ErrorFlag *
-  New()
-  {
-    return new ErrorFlag;
-  }
-  void
-  Execute(vtkObject *, unsigned long, void *) override
-  {
-    Raised = true;
-  }
-  bool Raised{ false };
-};
 } // namespace
 
 void
@@ -191,7 +176,7 @@ RenderPanels(const RenderScene & scene, const std::string & path, const std::str
   capture->Update();
 
   auto writer = vtkSmartPointer<vtkPNGWriter>::New();
-  auto failed = vtkSmartPointer<ErrorFlag>::New();
+  auto failed = vtkSmartPointer<VtkErrorCollector>::New();
   writer->AddObserver(vtkCommand::ErrorEvent, failed);
   writer->SetInputConnection(capture->GetOutputPort());
   writer->SetFileName(path.c_str());

@@ -18,10 +18,10 @@
 #include "sicSurface.h"
 
 #include "sicToolError.h"
+#include "sicVtkErrors.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkFlyingEdges3D.h"
 #include "vtkIdList.h"
@@ -40,34 +40,13 @@
 #include <filesystem>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace sic
 {
 namespace
 {
-/** Collects the error messages a VTK object raises, instead of letting VTK print them. */
-class ErrorCollector : public vtkCommand
-{
-public:
-  static ErrorCollector *
-  New()
-  {
-    return new ErrorCollector;
-  }
-
-  void
-  Execute(vtkObject *, unsigned long, void * callData) override
-  {
-    if (callData != nullptr && Message.empty())
-    {
-      Message = OneLine(static_cast<const char *>(callData));
-    }
-  }
-
-  std::string Message;
-};
-
 /** NaN samples are below every isovalue for the filter; for vtkFlyingEdges3D they would give
  * points with NaN coordinates. A copy with NaN replaced by the lowest finite value classifies
  * the same way and puts the crossing next to the other end of the edge. */
@@ -98,16 +77,66 @@ LowerExtension(const std::string & path)
   return extension;
 }
 
-std::size_t
-Find(std::vector<vtkIdType> & parent, std::size_t node)
+/** The pieces of a surface as a union-find over its points: the points of each triangle are
+ * in one set, so two points share a root exactly when they belong to one piece. */
+class PointPieces
 {
-  while (parent[node] != static_cast<vtkIdType>(node))
+public:
+  explicit PointPieces(vtkPolyData & surface)
+    : m_Parent(static_cast<std::size_t>(surface.GetNumberOfPoints()))
+    , m_Used(m_Parent.size(), false)
   {
-    parent[node] = parent[parent[node]];
-    node = static_cast<std::size_t>(parent[node]);
+    std::iota(m_Parent.begin(), m_Parent.end(), std::size_t{ 0 });
+    if (surface.GetPolys() == nullptr)
+    {
+      return;
+    }
+    auto cells = vtk::TakeSmartPointer(surface.GetPolys()->NewIterator());
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+    {
+      vtkIdType         count = 0;
+      const vtkIdType * ids = nullptr;
+      cells->GetCurrentCell(count, ids);
+      for (vtkIdType corner = 0; corner < count; ++corner)
+      {
+        m_Used[static_cast<std::size_t>(ids[corner])] = true;
+        const std::size_t a = Root(ids[0]);
+        const std::size_t b = Root(ids[corner]);
+        m_Parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
   }
-  return node;
-}
+
+  std::size_t
+  Root(vtkIdType point)
+  {
+    auto node = static_cast<std::size_t>(point);
+    while (m_Parent[node] != node)
+    {
+      m_Parent[node] = m_Parent[m_Parent[node]];
+      node = m_Parent[node];
+    }
+    return node;
+  }
+
+  /** Points are numbered 0 to Size() - 1; a piece has one root among its points. */
+  std::size_t
+  Size() const
+  {
+    return m_Parent.size();
+  }
+
+  /** Whether a triangle uses \a point (only used points belong to a piece). */
+  bool
+  Used(std::size_t point) const
+  {
+    return m_Used[point];
+  }
+
+private:
+  std::vector<std::size_t> m_Parent;
+  std::vector<bool>        m_Used;
+};
 } // namespace
 
 vtkSmartPointer<vtkPolyData>
@@ -154,10 +183,10 @@ ExtractIsosurface(const SurfaceGrid & grid, double isoValue)
   contour->ComputeGradientsOff();
   contour->ComputeScalarsOff();
   contour->InterpolateAttributesOff();
-  auto errors = vtkSmartPointer<ErrorCollector>::New();
+  auto errors = vtkSmartPointer<VtkErrorCollector>::New();
   contour->AddObserver(vtkCommand::ErrorEvent, errors);
   contour->Update();
-  if (!errors->Message.empty())
+  if (errors->Raised)
   {
     throw std::runtime_error("isosurface extraction failed: " + errors->Message);
   }
@@ -225,35 +254,13 @@ TransformToPhysical(vtkPolyData & surface, const SurfaceGeometry & geometry)
 std::uint64_t
 CountSurfacePieces(vtkPolyData & surface)
 {
-  vtkCellArray * polys = surface.GetPolys();
-  if (polys == nullptr || polys->GetNumberOfCells() == 0)
+  PointPieces   pieces(surface);
+  std::uint64_t count = 0;
+  for (std::size_t point = 0; point < pieces.Size(); ++point)
   {
-    return 0;
+    count += pieces.Used(point) && pieces.Root(static_cast<vtkIdType>(point)) == point;
   }
-  const auto           pointCount = static_cast<std::size_t>(surface.GetNumberOfPoints());
-  std::vector<vtkIdType> parent(pointCount);
-  std::iota(parent.begin(), parent.end(), vtkIdType{ 0 });
-  std::vector<bool> used(pointCount, false);
-  auto              cells = vtk::TakeSmartPointer(polys->NewIterator());
-  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
-  {
-    vtkIdType         size = 0;
-    const vtkIdType * ids = nullptr;
-    cells->GetCurrentCell(size, ids);
-    for (vtkIdType corner = 0; corner < size; ++corner)
-    {
-      used[static_cast<std::size_t>(ids[corner])] = true;
-      const std::size_t a = Find(parent, static_cast<std::size_t>(ids[0]));
-      const std::size_t b = Find(parent, static_cast<std::size_t>(ids[corner]));
-      parent[std::max(a, b)] = static_cast<vtkIdType>(std::min(a, b));
-    }
-  }
-  std::uint64_t pieces = 0;
-  for (std::size_t point = 0; point < pointCount; ++point)
-  {
-    pieces += used[point] && Find(parent, point) == point;
-  }
-  return pieces;
+  return count;
 }
 
 RemovedTriangles
@@ -311,26 +318,12 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
       kind.push_back(speck ? 1 : bubble ? 2 : 0);
     }
     // A piece is taken away whole when none of its triangles is unchanged.
-    std::vector<vtkIdType> parent;
-    std::vector<bool>      keptPiece;
+    std::optional<PointPieces> pieces;
+    std::vector<bool>          keptPiece;
     if (wholePiecesOnly)
     {
-      const auto pointCount = static_cast<std::size_t>(surface.GetNumberOfPoints());
-      parent.resize(pointCount);
-      std::iota(parent.begin(), parent.end(), vtkIdType{ 0 });
-      keptPiece.assign(pointCount, false);
-      for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
-      {
-        vtkIdType         count = 0;
-        const vtkIdType * ids = nullptr;
-        cells->GetCurrentCell(count, ids);
-        for (vtkIdType corner = 1; corner < count; ++corner)
-        {
-          const std::size_t a = Find(parent, static_cast<std::size_t>(ids[0]));
-          const std::size_t b = Find(parent, static_cast<std::size_t>(ids[corner]));
-          parent[std::max(a, b)] = static_cast<vtkIdType>(std::min(a, b));
-        }
-      }
+      pieces.emplace(surface);
+      keptPiece.assign(pieces->Size(), false);
       std::size_t triangle = 0;
       for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++triangle)
       {
@@ -339,7 +332,7 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
         cells->GetCurrentCell(count, ids);
         if (kind[triangle] == 0)
         {
-          keptPiece[Find(parent, static_cast<std::size_t>(ids[0]))] = true;
+          keptPiece[pieces->Root(ids[0])] = true;
         }
       }
     }
@@ -349,7 +342,7 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
       vtkIdType         count = 0;
       const vtkIdType * ids = nullptr;
       cells->GetCurrentCell(count, ids);
-      if (kind[triangle] == 0 || (wholePiecesOnly && keptPiece[Find(parent, static_cast<std::size_t>(ids[0]))]))
+      if (kind[triangle] == 0 || (pieces && keptPiece[pieces->Root(ids[0])]))
       {
         continue;
       }
@@ -393,13 +386,13 @@ WriteSurface(vtkPolyData & surface, const std::string & stagedPath, const std::s
              const std::string & what)
 {
   const auto write = [&](auto writer) {
-    auto errors = vtkSmartPointer<ErrorCollector>::New();
+    auto errors = vtkSmartPointer<VtkErrorCollector>::New();
     writer->AddObserver(vtkCommand::ErrorEvent, errors);
     writer->SetInputData(&surface);
     writer->SetFileName(stagedPath.c_str());
     const int       written = writer->Write();
     std::error_code error;
-    if (written != 1 || writer->GetErrorCode() != 0 || !errors->Message.empty() ||
+    if (written != 1 || writer->GetErrorCode() != 0 || errors->Raised ||
         !std::filesystem::exists(stagedPath, error))
     {
       throw ToolError("cannot write the " + what + " to '" + finalPath + "'" +
