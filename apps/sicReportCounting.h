@@ -175,7 +175,7 @@ LabelSides(const TPixel *                          buffer,
 {
   itk::SmallIsoComponentRunLabeling labeling;
   labeling.Initialize(size, fullyConnected, threader->GetNumberOfWorkUnits());
-  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(buffer, labeling, threader, [](itk::SizeValueType) {});
+  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(buffer, labeling, threader, [](itk::SizeValueType, itk::SizeValueType) {});
   labeling.AssembleRuns(threader);
   labeling.LinkRuns(threader);
   labeling.LabelComponents();

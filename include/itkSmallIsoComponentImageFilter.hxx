@@ -86,20 +86,22 @@ private:
   std::map<SizeValueType, SizeValueType> m_Large;
 };
 
-/** Images whose output and mask together take at least this many bytes are written with
- * streaming stores when the runs are encoded: they would not stay in the caches anyway,
- * and streaming saves reading every written cache line from memory first. */
-constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 24 } << 20;
+/** Images whose output and mask together take at least this many bytes (twice a core's
+ * level-2 cache on the machines measured) are written with streaming stores when the runs
+ * are encoded: they would not stay in the caches anyway, and streaming saves reading every
+ * written cache line from memory first. */
+constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 4 } << 20;
 
 /** Copies \a bytes from \a source to \a destination, with streaming stores where
- * SSE2 has them. */
+ * SSE2 has them: whole 64-byte cache lines only, the partial lines at both ends with
+ * ordinary stores (a partly streamed line costs more than it saves). */
 inline void
 StreamCopy(void * destination, const void * source, SizeValueType bytes)
 {
 #if defined(__SSE2__)
   auto *       d = static_cast<char *>(destination);
   const auto * s = static_cast<const char *>(source);
-  const auto   head = std::min<SizeValueType>(bytes, (16 - reinterpret_cast<uintptr_t>(d) % 16) % 16);
+  const auto   head = std::min<SizeValueType>(bytes, (64 - reinterpret_cast<uintptr_t>(d) % 64) % 64);
   std::memcpy(d, s, head);
   for (d += head, s += head, bytes -= head; bytes >= 64; d += 64, s += 64, bytes -= 64)
   {
@@ -112,23 +114,20 @@ StreamCopy(void * destination, const void * source, SizeValueType bytes)
     _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), v2);
     _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), v3);
   }
-  for (; bytes >= 16; d += 16, s += 16, bytes -= 16)
-  {
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), _mm_loadu_si128(reinterpret_cast<const __m128i *>(s)));
-  }
   std::memcpy(d, s, bytes);
 #else
   std::memcpy(destination, source, bytes);
 #endif
 }
 
-/** Sets \a bytes at \a destination to zero, with streaming stores where SSE2 has them. */
+/** Sets \a bytes at \a destination to zero, with streaming stores for the whole cache
+ * lines where SSE2 has them. */
 inline void
 StreamZero(void * destination, SizeValueType bytes)
 {
 #if defined(__SSE2__)
   auto *     d = static_cast<char *>(destination);
-  const auto head = std::min<SizeValueType>(bytes, (16 - reinterpret_cast<uintptr_t>(d) % 16) % 16);
+  const auto head = std::min<SizeValueType>(bytes, (64 - reinterpret_cast<uintptr_t>(d) % 64) % 64);
   std::memset(d, 0, head);
   const __m128i zero = _mm_setzero_si128();
   for (d += head, bytes -= head; bytes >= 64; d += 64, bytes -= 64)
@@ -137,10 +136,6 @@ StreamZero(void * destination, SizeValueType bytes)
     _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), zero);
     _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), zero);
     _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), zero);
-  }
-  for (; bytes >= 16; d += 16, bytes -= 16)
-  {
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), zero);
   }
   std::memset(d, 0, bytes);
 #else
@@ -156,6 +151,23 @@ StreamFence()
   _mm_sfence();
 #endif
 }
+
+/** Asks for the cache line at \a address ahead of its use; a hint only. */
+inline void
+Prefetch(const void * address)
+{
+#if defined(__GNUC__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
+}
+
+/** Fewer removed runs than this are repaired by the calling thread alone. */
+constexpr SizeValueType RunsPerParallelRepair = 2048;
+
+/** How many removed runs ahead the repair requests the voxels it will read. */
+constexpr SizeValueType PrefetchDistance = 8;
 
 /** A mean of values of type T, as T: rounded half up for integers. */
 template <typename T>
@@ -340,6 +352,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
   const bool             stream =
     voxels * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >= SmallIsoComponentDetail::StreamingThresholdInBytes;
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
+  // The output and the mask are filled block by block (whole lines, contiguous in
+  // memory) just before the block's lines are encoded.
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
     if (stream)
@@ -350,13 +364,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         inBuffer,
         labeling,
         this->GetMultiThreader(),
-        [&](SizeValueType line) {
+        [&](SizeValueType first, SizeValueType end) {
           if (copy)
           {
             SmallIsoComponentDetail::StreamCopy(
-              outBuffer + line * length, inBuffer + line * length, length * sizeof(OutputPixelType));
+              outBuffer + first * length, inBuffer + first * length, (end - first) * length * sizeof(OutputPixelType));
           }
-          SmallIsoComponentDetail::StreamZero(maskBuffer + line * length, length * sizeof(MaskPixelType));
+          SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, (end - first) * length * sizeof(MaskPixelType));
         },
         [] { SmallIsoComponentDetail::StreamFence(); });
       return;
@@ -366,27 +380,28 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
     outBuffer,
     labeling,
     this->GetMultiThreader(),
-    [&](SizeValueType line) {
-      const InputPixelType * in = inBuffer + line * length;
-      OutputPixelType *      out = outBuffer + line * length;
+    [&](SizeValueType first, SizeValueType end) {
+      const InputPixelType * in = inBuffer + first * length;
+      OutputPixelType *      out = outBuffer + first * length;
+      const SizeValueType    count = (end - first) * length;
       if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
       {
         if (copy)
         {
-          std::memcpy(out, in, length * sizeof(OutputPixelType));
+          std::memcpy(out, in, count * sizeof(OutputPixelType));
         }
       }
       else
       {
-        std::transform(in, in + length, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
+        std::transform(in, in + count, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
       }
       if (stream)
       {
-        SmallIsoComponentDetail::StreamZero(maskBuffer + line * length, length * sizeof(MaskPixelType));
+        SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, count * sizeof(MaskPixelType));
       }
       else
       {
-        std::memset(maskBuffer + line * length, 0, length * sizeof(MaskPixelType));
+        std::memset(maskBuffer + first * length, 0, count * sizeof(MaskPixelType));
       }
     },
     [stream] {
@@ -429,18 +444,58 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
 
   // New values are computed, in chunks of runs, before any is written: walks read the
   // values before the pass.
-  const SizeValueType chunks = std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
+  // A few removed runs are repaired by the calling thread alone: handing them to the
+  // pool costs more than it saves.
+  const SizeValueType chunks = runs.size() < RunsPerParallelRepair
+                                 ? 1
+                                 : std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
+  const auto forEachChunk = [this, chunks](auto && function) {
+    if (chunks == 1)
+    {
+      function(SizeValueType{ 0 });
+    }
+    else
+    {
+      this->GetMultiThreader()->ParallelizeArray(0, chunks, function, nullptr);
+    }
+  };
   const auto          chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
   std::vector<std::vector<OutputPixelType>> values(chunks);
   std::vector<SizeValueType>                unrepairable(chunks, 0);
-  this->GetMultiThreader()->ParallelizeArray(
-    0,
-    chunks,
-    [&](SizeValueType chunk) {
+  const SizeValueType                       voxels = output->GetBufferedRegion().GetNumberOfPixels();
+  // The removed runs are few and far apart: each one's voxels and their neighbours along
+  // the other axes are usually not in cache. Requesting them a few runs ahead overlaps
+  // the waits.
+  const auto prefetchNeighbors = [&](const SmallIsoComponentRunLabeling::LineRun & ahead) {
+    const SizeValueType first = ahead.Line * size[0] + labeling.GetRunStart(ahead.Run);
+    Prefetch(buffer + first);
+    for (unsigned int a = 1; a < dimension; ++a)
+    {
+      const auto step = static_cast<SizeValueType>(stride[a]);
+      if (first >= step)
+      {
+        Prefetch(buffer + first - step);
+      }
+      if (first + step < voxels)
+      {
+        Prefetch(buffer + first + step);
+      }
+    }
+  };
+  forEachChunk([&](SizeValueType chunk) {
       std::vector<SizeValueType> coordinates;
       const SizeValueType        length = size[0];
-      for (SizeValueType i = chunkBegin(chunk); i < chunkBegin(chunk + 1); ++i)
+      const SizeValueType        chunkEnd = chunkBegin(chunk + 1);
+      for (SizeValueType i = chunkBegin(chunk); i < std::min(chunkEnd, chunkBegin(chunk) + PrefetchDistance); ++i)
       {
+        prefetchNeighbors(runs[i]);
+      }
+      for (SizeValueType i = chunkBegin(chunk); i < chunkEnd; ++i)
+      {
+        if (i + PrefetchDistance < chunkEnd)
+        {
+          prefetchNeighbors(runs[i + PrefetchDistance]);
+        }
         const auto & removed = runs[i];
         labeling.LineCoordinates(removed.Line, coordinates);
         const OutputPixelType * line = buffer + removed.Line * length;
@@ -510,8 +565,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
           }
         }
       }
-    },
-    nullptr);
+    });
 
   MaskPixelType *            maskBuffer = mask->GetBufferPointer();
   std::vector<SizeValueType> newlyModified(chunks, 0);
@@ -520,13 +574,21 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   {
     valueBytes += chunkValues.capacity() * sizeof(OutputPixelType);
   }
-  this->GetMultiThreader()->ParallelizeArray(
-    0,
-    chunks,
-    [&](SizeValueType chunk) {
-      auto value = values[chunk].cbegin();
-      for (SizeValueType i = chunkBegin(chunk); i < chunkBegin(chunk + 1); ++i)
+  forEachChunk([&](SizeValueType chunk) {
+      auto                value = values[chunk].cbegin();
+      const SizeValueType chunkEnd = chunkBegin(chunk + 1);
+      for (SizeValueType i = chunkBegin(chunk); i < std::min(chunkEnd, chunkBegin(chunk) + PrefetchDistance); ++i)
       {
+        const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
+        Prefetch(maskBuffer + first);
+      }
+      for (SizeValueType i = chunkBegin(chunk); i < chunkEnd; ++i)
+      {
+        if (i + PrefetchDistance < chunkEnd)
+        {
+          const auto & ahead = runs[i + PrefetchDistance];
+          Prefetch(maskBuffer + ahead.Line * size[0] + labeling.GetRunStart(ahead.Run));
+        }
         const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
         const SizeValueType count = labeling.GetRunEnd(runs[i].Run, runs[i].Line) - labeling.GetRunStart(runs[i].Run);
         std::copy(value, value + count, buffer + first);
@@ -534,8 +596,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
         newlyModified[chunk] += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
         std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
       }
-    },
-    nullptr);
+    });
   for (const SizeValueType u : unrepairable)
   {
     m_NumberOfUnrepairableVoxels += u;
@@ -605,7 +666,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // Phase 2: link touching runs of each side, then number the components.
   labeling.LinkRuns(this->GetMultiThreader());
   this->CheckAbort(0.6f);
-  labeling.LabelComponents();
+  // Every run of a component of at most K voxels is kept as a candidate, so that the
+  // passes below find the runs to repair without scanning all runs again.
+  labeling.LabelComponents(K);
   m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes, labeling.GetMemoryInBytes());
   this->CheckAbort(0.7f);
 
@@ -656,7 +719,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   std::vector<SmallIsoComponentRunLabeling::LineRun> removedAboveRuns;
   if (m_AboveStatistics.RemovedComponents > 0)
   {
-    removedAboveRuns = labeling.CollectRuns(removedAbove, this->GetMultiThreader());
+    removedAboveRuns = labeling.CollectCandidateRuns(removedAbove);
   }
   m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask);
   this->CheckAbort(0.8f);
@@ -702,7 +765,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   std::vector<SmallIsoComponentRunLabeling::LineRun> removedBelowRuns;
   if (m_BelowStatistics.RemovedComponents > 0)
   {
-    removedBelowRuns = labeling.CollectRuns(removedBelow, this->GetMultiThreader());
+    // A removed group has at most K voxels, so all of its below components' runs are
+    // candidates; its flipped components' runs are candidates too.
+    removedBelowRuns = labeling.CollectCandidateRuns(removedBelow);
   }
   m_NumberOfModifiedVoxels += this->Repair(labeling, removedBelow, removedBelowRuns, false, 2, output, mask);
   this->UpdateProgress(1.0f);

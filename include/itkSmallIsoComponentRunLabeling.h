@@ -47,7 +47,8 @@ namespace itk
  * does not depend on the number of slabs.
  *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
- * component), 9 bytes per line, and 9 bytes per component.
+ * component), 9 bytes per line, 9 bytes per component, and 8 bytes per candidate run
+ * (LabelComponents(candidateSize)).
  *
  * \ingroup SmallIsoComponent
  */
@@ -153,6 +154,13 @@ public:
   void
   LabelComponents();
 
+  /** The same, and keeps as candidates (see CollectCandidateRuns()) every run whose
+   * component has at most \a candidateSize voxels up to and including that run: all the
+   * runs of every component of at most \a candidateSize voxels, and a few runs of the
+   * larger ones. */
+  void
+  LabelComponents(SizeValueType candidateSize);
+
   SizeValueType
   GetNumberOfRuns() const
   {
@@ -242,6 +250,12 @@ public:
   std::vector<LineRun>
   CollectRuns(const std::vector<uint8_t> & selected, MultiThreaderBase * threader) const;
 
+  /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
+   * flagged in \a selected, in run order: every run of the selected components if they
+   * have at most candidateSize voxels. Visits the candidates only, not every run. */
+  std::vector<LineRun>
+  CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
+
   /** Coordinates along axes 1..N-1 of a line. */
   void
   LineCoordinates(SizeValueType line, std::vector<SizeValueType> & coordinates) const;
@@ -296,6 +310,7 @@ private:
   std::unique_ptr<RunIndexType[]>          m_RunLabel;
   std::vector<SizeValueType>               m_ComponentSize;
   std::vector<uint8_t>                     m_ComponentAbove;
+  std::vector<LineRun>                     m_CandidateRuns;
   SizeValueType                            m_PeakMemoryInBytes{ 0 };
 };
 } // end namespace itk

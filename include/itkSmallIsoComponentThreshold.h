@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentThreshold_h
 
 #include "itkSmallIsoComponentRunLabeling.h"
+#include <algorithm>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -88,38 +89,49 @@ public:
              std::vector<SmallIsoComponentRunLabeling::CoordinateType> & starts) const;
 
   /** Encodes every line of \a buffer (the whole image, lines along axis 0), the slabs of
-   * \a labeling in parallel; prepareLine(line) is called just before each line is read. */
-  template <typename TPrepareLine>
+   * \a labeling in parallel. prepareLines(first, end) is called for consecutive blocks of
+   * lines of a slab (about 32 KiB of voxels each) just before their lines are read, so
+   * that the caller can fill the buffer block by block while it is in cache. */
+  template <typename TPrepareLines>
   void
   Encode(const TPixel *                 buffer,
          SmallIsoComponentRunLabeling & labeling,
          MultiThreaderBase *            threader,
-         TPrepareLine &&                prepareLine) const
+         TPrepareLines &&               prepareLines) const
   {
-    this->Encode(buffer, labeling, threader, std::forward<TPrepareLine>(prepareLine), [] {});
+    this->Encode(buffer, labeling, threader, std::forward<TPrepareLines>(prepareLines), [] {});
   }
 
   /** The same; finishSlab() is called by the work unit that encoded a slab, after its
    * last line. */
-  template <typename TPrepareLine, typename TFinishSlab>
+  template <typename TPrepareLines, typename TFinishSlab>
   void
   Encode(const TPixel *                 buffer,
          SmallIsoComponentRunLabeling & labeling,
          MultiThreaderBase *            threader,
-         TPrepareLine &&                prepareLine,
+         TPrepareLines &&               prepareLines,
          TFinishSlab &&                 finishSlab) const
   {
     const SizeValueType length = labeling.GetLineLength();
+    const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
     labeling.ParallelizeSlabs(threader, [&](unsigned int slab) {
-      auto & starts = labeling.GetSlabRunStarts(slab);
-      for (SizeValueType line = labeling.GetSlabBeginLine(slab); line < labeling.GetSlabBeginLine(slab + 1); ++line)
+      auto &              starts = labeling.GetSlabRunStarts(slab);
+      const SizeValueType slabEnd = labeling.GetSlabBeginLine(slab + 1);
+      for (SizeValueType block = labeling.GetSlabBeginLine(slab); block < slabEnd; block += linesPerBlock)
       {
-        prepareLine(line);
-        this->EncodeLine(buffer + line * length, line, labeling, starts);
+        const SizeValueType blockEnd = std::min(slabEnd, block + linesPerBlock);
+        prepareLines(block, blockEnd);
+        for (SizeValueType line = block; line < blockEnd; ++line)
+        {
+          this->EncodeLine(buffer + line * length, line, labeling, starts);
+        }
       }
       finishSlab();
     });
   }
+
+  /** Voxel bytes per block handed to prepareLines() in Encode(). */
+  static constexpr SizeValueType BlockBytes = 32768;
 
 private:
   template <SizeValueType VBlock>

@@ -106,6 +106,7 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
   m_RunLabel.reset();
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
+  m_CandidateRuns.clear();
   m_PeakMemoryInBytes = 0;
 }
 
@@ -379,8 +380,17 @@ SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
 void
 SmallIsoComponentRunLabeling::LabelComponents()
 {
+  this->LabelComponents(0);
+  m_CandidateRuns.clear();
+  m_CandidateRuns.shrink_to_fit();
+}
+
+void
+SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
+{
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
+  m_CandidateRuns.clear();
   RunIndexType * const         label = m_RunLabel.get();
   const CoordinateType * const start = m_RunStart.get();
   const SizeValueType          length = m_Size[0];
@@ -405,9 +415,31 @@ SmallIsoComponentRunLabeling::LabelComponents()
         component = label[parent];
       }
       label[run] = component;
-      m_ComponentSize[component] += (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+      const SizeValueType size = m_ComponentSize[component] +
+                                 (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+      m_ComponentSize[component] = size;
+      // A component's size only grows, so every run of a component that ends at most
+      // candidateSize voxels large is kept.
+      if (size <= candidateSize)
+      {
+        m_CandidateRuns.push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
+      }
     }
   }
+}
+
+auto
+SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
+{
+  std::vector<LineRun> runs;
+  for (const LineRun & candidate : m_CandidateRuns)
+  {
+    if (selected[m_RunLabel[candidate.Run]])
+    {
+      runs.push_back(candidate);
+    }
+  }
+  return runs;
 }
 
 auto
@@ -539,6 +571,38 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
         join(a, b);
       }
     };
+    // The below runs of line \a other that overlap [from, to): the first run that ends
+    // after from is found by a short walk (lines hold few runs) or a binary search.
+    const auto joinOverlapping = [&](ComponentIndexType component,
+                                     SizeValueType      other,
+                                     SizeValueType      from,
+                                     SizeValueType      to) {
+      const SizeValueType otherBegin = m_LineRunBegin[other];
+      const SizeValueType otherEnd = m_LineRunBegin[other + 1];
+      SizeValueType       k = otherBegin;
+      if (otherEnd - otherBegin > 8)
+      {
+        k = static_cast<SizeValueType>(std::upper_bound(runStart + otherBegin + 1, runStart + otherEnd, from) -
+                                       runStart) -
+            1;
+      }
+      else
+      {
+        while (k + 1 < otherEnd && runStart[k + 1] <= from)
+        {
+          ++k;
+        }
+      }
+      bool above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
+      for (; k < otherEnd && runStart[k] < to; ++k, above = !above)
+      {
+        if (!above)
+        {
+          add(component, label[k]);
+        }
+      }
+    };
+    const bool faceConnected3D = !m_FullyConnected && m_Size.size() == 3;
     for (SizeValueType i = first; i < last; ++i)
     {
       const SizeValueType      run = flippedRuns[i].Run;
@@ -553,6 +617,33 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       if (run + 1 < lineEnd)
       {
         add(component, label[run + 1]);
+      }
+      if (faceConnected3D)
+      {
+        // The common case, without the general neighbour tables: the lines before and
+        // after along y and along z.
+        const SizeValueType rows = m_Size[1];
+        const SizeValueType y = line % rows;
+        const SizeValueType z = line / rows;
+        const SizeValueType start = runStart[run];
+        const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
+        if (y > 0)
+        {
+          joinOverlapping(component, line - 1, start, end);
+        }
+        if (y + 1 < rows)
+        {
+          joinOverlapping(component, line + 1, start, end);
+        }
+        if (z > 0)
+        {
+          joinOverlapping(component, line - rows, start, end);
+        }
+        if (z + 1 < m_Size[2])
+        {
+          joinOverlapping(component, line + rows, start, end);
+        }
+        continue;
       }
       if (line != coordinatesLine)
       {
@@ -642,7 +733,8 @@ SmallIsoComponentRunLabeling::GetMemoryInBytes() const
 {
   SizeValueType bytes = m_NumberOfRuns * (sizeof(CoordinateType) + sizeof(RunIndexType)) +
                         m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
-                        m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity();
+                        m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
+                        m_CandidateRuns.capacity() * sizeof(LineRun);
   for (const auto & starts : m_SlabRunStarts)
   {
     bytes += starts.capacity() * sizeof(CoordinateType);

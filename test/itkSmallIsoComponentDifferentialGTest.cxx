@@ -83,3 +83,42 @@ TEST(SmallIsoComponentDifferential, LargeFloatImageWithNaN3D)
 {
   ExpectFilterMatchesReference<float, float, 3>(12000, 40, true);
 }
+
+TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
+{
+  // White noise around the isovalue in a 128x128x128 uint8 volume: thousands of removed
+  // runs on each side, so the repair is shared among the work units, and 4 MiB of output
+  // and mask, so the filter writes them with streaming stores. Both sides, both
+  // connectivities, every bit against the reference at 1, 2 and 7 work units.
+  using namespace itk::SmallIsoComponentTest;
+  using ImageType = itk::Image<uint8_t, 3>;
+  const std::array<itk::SizeValueType, 3> extent{ 128, 128, 128 };
+  for (const bool fullyConnected : { false, true })
+  {
+    RandomSource         random(fullyConnected ? 13001u : 13002u);
+    std::vector<uint8_t> values(extent[0] * extent[1] * extent[2]);
+    for (itk::SizeValueType i = 0; i < values.size(); ++i)
+    {
+      // The lower half mostly above with a sprinkle below (bubbles), the upper half the
+      // other way round (specks).
+      const double aboveShare = i < values.size() / 2 ? 0.88 : 0.12;
+      values[i] = static_cast<uint8_t>(random.Chance(aboveShare) ? random.Between(150, 255) : random.Between(0, 120));
+    }
+    const auto  input = MakeImage<uint8_t, 3>(extent, values);
+    Parameters  settings;
+    settings.IsoValue = 128;
+    settings.MaximumComponentSize = 20;
+    settings.Side = SideEnum::Both;
+    settings.FullyConnected = fullyConnected;
+    const auto expected = Reference::Run<uint8_t>(input.GetPointer(), settings);
+    ASSERT_GT(expected.Above.RemovedComponents, 4 * itk::SmallIsoComponentDetail::RunsPerParallelRepair)
+      << "the volume no longer exercises a shared repair";
+    ASSERT_GT(expected.Below.RemovedComponents, 4 * itk::SmallIsoComponentDetail::RunsPerParallelRepair);
+    for (const unsigned int workUnits : { 1u, 2u, 7u })
+    {
+      const auto filter = RunFilter<ImageType>(input, settings, workUnits);
+      EXPECT_EQ(DifferencesFromReference(filter.GetPointer(), expected, settings.MaximumComponentSize), "")
+        << "fullyConnected=" << fullyConnected << " workUnits=" << workUnits;
+    }
+  }
+}
