@@ -450,14 +450,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
                                  ? 1
                                  : std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
   const auto forEachChunk = [this, chunks](auto && function) {
-    if (chunks == 1)
-    {
-      function(SizeValueType{ 0 });
-    }
-    else
-    {
-      this->GetMultiThreader()->ParallelizeArray(0, chunks, function, nullptr);
-    }
+    SmallIsoComponentRunLabeling::ParallelizeDynamically(this->GetMultiThreader(), chunks, function);
   };
   const auto          chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
   std::vector<std::vector<OutputPixelType>> values(chunks);

@@ -72,33 +72,42 @@ public:
   /** Slabs per work unit when there are several work units. */
   static constexpr unsigned int SlabsPerWorkUnit = 4;
 
-  /** Calls function(slab) once for every slab, on the threader's work units, each taking
-   * the next unhandled slab when it is free. */
+  /** Calls function(item) once for every item in [0, items), on the threader's work units,
+   * each taking the next unhandled item when it is free: a work unit that starts late (a
+   * pool thread waking up) takes what is left instead of holding up the others. */
   template <typename TFunction>
-  void
-  ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
+  static void
+  ParallelizeDynamically(MultiThreaderBase * threader, SizeValueType items, TFunction && function)
   {
-    const auto         slabs = this->GetNumberOfSlabs();
-    const unsigned int units = std::min(slabs, threader->GetNumberOfWorkUnits());
+    const SizeValueType units = std::min<SizeValueType>(items, threader->GetNumberOfWorkUnits());
     if (units <= 1)
     {
-      for (unsigned int slab = 0; slab < slabs; ++slab)
+      for (SizeValueType item = 0; item < items; ++item)
       {
-        function(slab);
+        function(item);
       }
       return;
     }
-    std::atomic<unsigned int> next{ 0 };
+    std::atomic<SizeValueType> next{ 0 };
     threader->ParallelizeArray(
       0,
       units,
       [&](SizeValueType) {
-        for (unsigned int slab = next++; slab < slabs; slab = next++)
+        for (SizeValueType item = next++; item < items; item = next++)
         {
-          function(slab);
+          function(item);
         }
       },
       nullptr);
+  }
+
+  /** Calls function(slab) once for every slab, as ParallelizeDynamically() does. */
+  template <typename TFunction>
+  void
+  ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
+  {
+    ParallelizeDynamically(
+      threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) { function(static_cast<unsigned int>(slab)); });
   }
 
   SizeValueType

@@ -126,6 +126,8 @@ public:
           this->EncodeLine(buffer + line * length, line, labeling, starts);
         }
       }
+      // AssembleRuns() holds these and the joined arrays at once: no spare capacity.
+      starts.shrink_to_fit();
       finishSlab();
     });
   }

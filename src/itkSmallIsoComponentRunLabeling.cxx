@@ -391,6 +391,9 @@ SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_CandidateRuns.clear();
+  constexpr SizeValueType      BufferSize = 256;
+  LineRun                      buffer[BufferSize];
+  SizeValueType                buffered = 0;
   RunIndexType * const         label = m_RunLabel.get();
   const CoordinateType * const start = m_RunStart.get();
   const SizeValueType          length = m_Size[0];
@@ -419,13 +422,18 @@ SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
                                  (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
       m_ComponentSize[component] = size;
       // A component's size only grows, so every run of a component that ends at most
-      // candidateSize voxels large is kept.
-      if (size <= candidateSize)
+      // candidateSize voxels large is kept. Written without a branch (which would be
+      // mispredicted for every speck) into a small buffer, emptied when full.
+      buffer[buffered] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
+      buffered += size <= candidateSize ? 1 : 0;
+      if (buffered == BufferSize)
       {
-        m_CandidateRuns.push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
+        m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
+        buffered = 0;
       }
     }
   }
+  m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
 }
 
 auto
@@ -687,22 +695,14 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       }
     }
   };
+  // Chunks taken as the work units become free; a few runs stay on the calling thread.
   const SizeValueType chunks =
-    std::min<SizeValueType>(flippedRuns.size(), std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits()));
-  if (chunks == 1)
-  {
-    joinNeighbors(0, flippedRuns.size());
-  }
-  else if (chunks > 1)
-  {
-    threader->ParallelizeArray(
-      0,
-      chunks,
-      [&](SizeValueType chunk) {
-        joinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
-      },
-      nullptr);
-  }
+    flippedRuns.size() < 2048
+      ? 1
+      : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits()));
+  ParallelizeDynamically(threader, chunks, [&](SizeValueType chunk) {
+    joinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
+  });
   if (scratchBytes)
   {
     *scratchBytes = numberOfComponents * sizeof(AtomicComponent);
