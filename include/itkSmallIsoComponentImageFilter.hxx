@@ -163,9 +163,6 @@ Prefetch(const void * address)
 #endif
 }
 
-/** Fewer removed runs than this are repaired by the calling thread alone. */
-constexpr SizeValueType RunsPerParallelRepair = 2048;
-
 /** How many removed runs ahead the repair requests the voxels it will read. */
 constexpr SizeValueType PrefetchDistance = 8;
 
@@ -446,7 +443,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   // values before the pass.
   // A few removed runs are repaired by the calling thread alone: handing them to the
   // pool costs more than it saves.
-  const SizeValueType chunks = runs.size() < RunsPerParallelRepair
+  const SizeValueType chunks = runs.size() < SmallIsoComponentRunLabeling::MinimumRunsToShare
                                  ? 1
                                  : std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
   const auto forEachChunk = [this, chunks](auto && function) {
@@ -459,8 +456,28 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   // The removed runs are few and far apart: each one's voxels and their neighbours along
   // the other axes are usually not in cache. Requesting them a few runs ahead overlaps
   // the waits.
-  const auto prefetchNeighbors = [&](const SmallIsoComponentRunLabeling::LineRun & ahead) {
-    const SizeValueType first = ahead.Line * size[0] + labeling.GetRunStart(ahead.Run);
+  using LineRun = SmallIsoComponentRunLabeling::LineRun;
+  const auto firstVoxel = [&](const LineRun & run) { return run.Line * size[0] + labeling.GetRunStart(run.Run); };
+  // Calls visit(run) for the runs of a chunk in order, and prefetch(run) for the run
+  // PrefetchDistance ahead of each.
+  const auto forEachRunOf = [&](SizeValueType chunk, auto && prefetch, auto && visit) {
+    const SizeValueType begin = chunkBegin(chunk);
+    const SizeValueType end = chunkBegin(chunk + 1);
+    for (SizeValueType i = begin; i < std::min(end, begin + PrefetchDistance); ++i)
+    {
+      prefetch(runs[i]);
+    }
+    for (SizeValueType i = begin; i < end; ++i)
+    {
+      if (i + PrefetchDistance < end)
+      {
+        prefetch(runs[i + PrefetchDistance]);
+      }
+      visit(runs[i]);
+    }
+  };
+  const auto prefetchNeighbors = [&](const LineRun & ahead) {
+    const SizeValueType first = firstVoxel(ahead);
     Prefetch(buffer + first);
     for (unsigned int a = 1; a < dimension; ++a)
     {
@@ -478,18 +495,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   forEachChunk([&](SizeValueType chunk) {
       std::vector<SizeValueType> coordinates;
       const SizeValueType        length = size[0];
-      const SizeValueType        chunkEnd = chunkBegin(chunk + 1);
-      for (SizeValueType i = chunkBegin(chunk); i < std::min(chunkEnd, chunkBegin(chunk) + PrefetchDistance); ++i)
-      {
-        prefetchNeighbors(runs[i]);
-      }
-      for (SizeValueType i = chunkBegin(chunk); i < chunkEnd; ++i)
-      {
-        if (i + PrefetchDistance < chunkEnd)
-        {
-          prefetchNeighbors(runs[i + PrefetchDistance]);
-        }
-        const auto & removed = runs[i];
+      forEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
         labeling.LineCoordinates(removed.Line, coordinates);
         const OutputPixelType * line = buffer + removed.Line * length;
         const SizeValueType     start = labeling.GetRunStart(removed.Run);
@@ -557,7 +563,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
             ++unrepairable[chunk];
           }
         }
-      }
+      });
     });
 
   MaskPixelType *            maskBuffer = mask->GetBufferPointer();
@@ -568,27 +574,19 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
     valueBytes += chunkValues.capacity() * sizeof(OutputPixelType);
   }
   forEachChunk([&](SizeValueType chunk) {
-      auto                value = values[chunk].cbegin();
-      const SizeValueType chunkEnd = chunkBegin(chunk + 1);
-      for (SizeValueType i = chunkBegin(chunk); i < std::min(chunkEnd, chunkBegin(chunk) + PrefetchDistance); ++i)
-      {
-        const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
-        Prefetch(maskBuffer + first);
-      }
-      for (SizeValueType i = chunkBegin(chunk); i < chunkEnd; ++i)
-      {
-        if (i + PrefetchDistance < chunkEnd)
-        {
-          const auto & ahead = runs[i + PrefetchDistance];
-          Prefetch(maskBuffer + ahead.Line * size[0] + labeling.GetRunStart(ahead.Run));
-        }
-        const SizeValueType first = runs[i].Line * size[0] + labeling.GetRunStart(runs[i].Run);
-        const SizeValueType count = labeling.GetRunEnd(runs[i].Run, runs[i].Line) - labeling.GetRunStart(runs[i].Run);
-        std::copy(value, value + count, buffer + first);
-        value += count;
-        newlyModified[chunk] += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
-        std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
-      }
+      auto value = values[chunk].cbegin();
+      forEachRunOf(
+        chunk,
+        [&](const LineRun & ahead) { Prefetch(maskBuffer + firstVoxel(ahead)); },
+        [&](const LineRun & removed) {
+          const SizeValueType first = firstVoxel(removed);
+          const SizeValueType count =
+            labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
+          std::copy(value, value + count, buffer + first);
+          value += count;
+          newlyModified[chunk] += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
+          std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
+        });
     });
   for (const SizeValueType u : unrepairable)
   {
@@ -596,8 +594,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   }
   m_PeakExtraMemoryInBytes =
     std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedComponent.capacity() +
-               runs.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) + valueBytes);
+             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(LineRun) + valueBytes);
   return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
 }
 

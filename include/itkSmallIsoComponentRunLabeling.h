@@ -72,6 +72,10 @@ public:
   /** Slabs per work unit when there are several work units. */
   static constexpr unsigned int SlabsPerWorkUnit = 4;
 
+  /** Fewer runs than this (to repair, to group) are handled by the calling thread alone:
+   * waking the threader's pool for them costs more than it saves. */
+  static constexpr SizeValueType MinimumRunsToShare = 2048;
+
   /** Calls function(item) once for every item in [0, items), on the threader's work units,
    * each taking the next unhandled item when it is free: a work unit that starts late (a
    * pool thread waking up) takes what is left instead of holding up the others. */

@@ -380,9 +380,8 @@ SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
 void
 SmallIsoComponentRunLabeling::LabelComponents()
 {
+  // Every run has at least one voxel: no run is a candidate.
   this->LabelComponents(0);
-  m_CandidateRuns.clear();
-  m_CandidateRuns.shrink_to_fit();
 }
 
 void
@@ -566,9 +565,6 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
   const auto                   joinNeighbors = [&](SizeValueType first, SizeValueType last) {
     std::vector<SizeValueType> coordinates;
     SizeValueType              coordinatesLine = NumericTraits<SizeValueType>::max();
-    // Where the previous run of the same line stopped in each neighbouring line: runs of a
-    // line come in order, so the search for the next one starts there.
-    std::vector<SizeValueType> cursor(m_AllNeighbors.size());
     ComponentIndexType         lastA = NoGroup;
     ComponentIndexType         lastB = NoGroup;
     const auto                 add = [&](ComponentIndexType a, ComponentIndexType b) {
@@ -626,6 +622,8 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       {
         add(component, label[run + 1]);
       }
+      const SizeValueType start = runStart[run];
+      const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
       if (faceConnected3D)
       {
         // The common case, without the general neighbour tables: the lines before and
@@ -633,8 +631,6 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
         const SizeValueType rows = m_Size[1];
         const SizeValueType y = line % rows;
         const SizeValueType z = line / rows;
-        const SizeValueType start = runStart[run];
-        const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
         if (y > 0)
         {
           joinOverlapping(component, line - 1, start, end);
@@ -657,47 +653,22 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       {
         this->LineCoordinates(line, coordinates);
         coordinatesLine = line;
-        std::fill(cursor.begin(), cursor.end(), NumericTraits<SizeValueType>::max());
       }
-      const SizeValueType start = runStart[run];
-      const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
+      // With full connectivity a run also touches the runs that end just before it or
+      // start just after it in the neighbouring lines.
       const SizeValueType from = start >= allowance ? start - allowance : 0;
-      for (SizeValueType n = 0; n < m_AllNeighbors.size(); ++n)
+      for (const LineNeighbor & neighbor : m_AllNeighbors)
       {
-        const LineNeighbor & neighbor = m_AllNeighbors[n];
-        if (!this->NeighborInside(coordinates, neighbor))
+        if (this->NeighborInside(coordinates, neighbor))
         {
-          continue;
-        }
-        const SizeValueType other = line + neighbor.LineOffset;
-        const SizeValueType otherBegin = m_LineRunBegin[other];
-        const SizeValueType otherEnd = m_LineRunBegin[other + 1];
-        // The run that contains x = from: a few steps on from the cursor, else a binary
-        // search; then every run that starts before end + allowance.
-        SizeValueType k = cursor[n] == NumericTraits<SizeValueType>::max() ? otherBegin : cursor[n];
-        for (unsigned int step = 0; step < 4 && k + 1 < otherEnd && runStart[k + 1] <= from; ++step)
-        {
-          ++k;
-        }
-        if (k + 1 < otherEnd && runStart[k + 1] <= from)
-        {
-          k = static_cast<SizeValueType>(std::upper_bound(runStart + k + 1, runStart + otherEnd, from) - runStart) - 1;
-        }
-        cursor[n] = k;
-        bool above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
-        for (; k < otherEnd && runStart[k] < end + allowance; ++k, above = !above)
-        {
-          if (!above)
-          {
-            add(component, label[k]);
-          }
+          joinOverlapping(component, line + neighbor.LineOffset, from, end + allowance);
         }
       }
     }
   };
   // Chunks taken as the work units become free; a few runs stay on the calling thread.
   const SizeValueType chunks =
-    flippedRuns.size() < 2048
+    flippedRuns.size() < MinimumRunsToShare
       ? 1
       : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits()));
   ParallelizeDynamically(threader, chunks, [&](SizeValueType chunk) {
