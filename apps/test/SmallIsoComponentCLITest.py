@@ -14,27 +14,21 @@ import json
 import math
 import os
 import pty
-import shutil
 import subprocess
 import sys
-import tempfile
 import unittest
 import xml.dom.minidom
+
+from sic_tool_test import USAGE_ERROR, ToolTestCase, run
 
 FILTER = os.environ.get("SIC_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
-SCRATCH = os.environ.get("SIC_SCRATCH", tempfile.gettempdir())
 
 PIXEL_TYPES = ["uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"]
 # The probe's test images: isovalue 50 separates background (10) from object (100).
 TEST_ISOVALUE = "50"
 PHANTOM_ISOVALUE = "150"
-USAGE_ERROR = 2
-
-
-def run(*arguments):
-    return subprocess.run([str(a) for a in arguments], capture_output=True, text=True, timeout=300)
 
 
 def reject_constant(name):
@@ -51,22 +45,8 @@ def digest(path):
         return hashlib.sha256(file.read()).hexdigest()
 
 
-class SmallIsoComponentCLITest(unittest.TestCase):
+class SmallIsoComponentCLITest(ToolTestCase):
     phantom = None
-
-    def setUp(self):
-        os.makedirs(SCRATCH, exist_ok=True)
-        self.dir = tempfile.mkdtemp(prefix=self.id().split(".")[-1] + "-", dir=SCRATCH)
-
-    def tearDown(self):
-        shutil.rmtree(self.dir, ignore_errors=True)
-
-    def path(self, *names):
-        return os.path.join(self.dir, *names)
-
-    def check(self, result, message=""):
-        self.assertEqual(result.returncode, 0, message + "\nstdout:\n" + result.stdout + "\nstderr:\n" + result.stderr)
-        return result
 
     def make_image(self, name, pixel_type="int16", dimension=3):
         path = self.path(name)

@@ -13,23 +13,17 @@ import io
 import json
 import os
 import shutil
-import subprocess
-import tempfile
 import unittest
+
+from sic_tool_test import USAGE_ERROR, ToolTestCase, run
 
 REPORT = os.environ.get("SIC_REPORT", "")
 PROBE = os.environ.get("SIC_REPORT_PROBE", "")
-SCRATCH = os.environ.get("SIC_SCRATCH", tempfile.gettempdir())
-USAGE_ERROR = 2
 
 # Random volumes hold the values 0 to 9 (and NaN for float types): these isovalues fall
 # between values, on values, and outside the range on both ends.
 ISOVALUES = ["-1", "0", "0.5", "1", "2.5", "3", "4.5", "7", "9.5", "100"]
 SIZES = "0,1,2,3,5,10,1000"
-
-
-def run(*arguments, env=None):
-    return subprocess.run([str(a) for a in arguments], capture_output=True, text=True, timeout=300, env=env)
 
 
 def isovalue_arguments(isovalues):
@@ -39,21 +33,7 @@ def isovalue_arguments(isovalues):
     return arguments
 
 
-class SmallIsoComponentReportTest(unittest.TestCase):
-    def setUp(self):
-        os.makedirs(SCRATCH, exist_ok=True)
-        self.dir = tempfile.mkdtemp(prefix=self.id().split(".")[-1] + "-", dir=SCRATCH)
-
-    def tearDown(self):
-        shutil.rmtree(self.dir, ignore_errors=True)
-
-    def path(self, *names):
-        return os.path.join(self.dir, *names)
-
-    def check(self, result):
-        self.assertEqual(result.returncode, 0, "stdout:\n" + result.stdout + "\nstderr:\n" + result.stderr)
-        return result
-
+class SmallIsoComponentReportTest(ToolTestCase):
     def random_image(self, pixel_type, dimension, seed):
         path = self.path("random-%s-%dd-%d.nrrd" % (pixel_type, dimension, seed))
         self.check(run(PROBE, "random", path, pixel_type, dimension, seed))

@@ -13,27 +13,28 @@ import csv
 import io
 import json
 import os
-import shutil
 import struct
-import subprocess
 import sys
-import tempfile
 import unittest
 import zlib
+
+import sic_tool_test
+from sic_tool_test import USAGE_ERROR, ToolTestCase
 
 FILTER = os.environ.get("SIC_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 REPORT = os.environ.get("SIC_REPORT", "")
 HAVE_VTK = os.environ.get("SIC_HAVE_VTK", "0") == "1"
-SCRATCH = os.environ.get("SIC_SCRATCH", tempfile.gettempdir())
 PHANTOM_ISOVALUE = "150"
-USAGE_ERROR = 2
 NO_VTK = "skipped: the tools were built without VTK (install libvtk9-dev, or run scripts/setup.sh, and reconfigure)"
 
 
+
+
 def run(*arguments, env=None):
-    return subprocess.run([str(a) for a in arguments], capture_output=True, text=True, timeout=600, env=env)
+    # Rendering starts a virtual display and draws four panels: allow it more time.
+    return sic_tool_test.run(*arguments, env=env, timeout=600)
 
 
 def load_json(path):
@@ -108,23 +109,11 @@ def is_surface(pixel):
     return r > 60 and 0.85 * r < g <= r and 0.7 * r < b < 0.93 * r
 
 
-class SmallIsoComponentSurfaceCLITest(unittest.TestCase):
+class SmallIsoComponentSurfaceCLITest(ToolTestCase):
     def setUp(self):
         if not HAVE_VTK:
             self.skipTest(NO_VTK)
-        os.makedirs(SCRATCH, exist_ok=True)
-        self.dir = tempfile.mkdtemp(prefix=self.id().split(".")[-1] + "-", dir=SCRATCH)
-
-    def tearDown(self):
-        if HAVE_VTK:
-            shutil.rmtree(self.dir, ignore_errors=True)
-
-    def path(self, *names):
-        return os.path.join(self.dir, *names)
-
-    def check(self, result, message=""):
-        self.assertEqual(result.returncode, 0, message + "\nstdout:\n" + result.stdout + "\nstderr:\n" + result.stderr)
-        return result
+        super().setUp()
 
     def phantom(self, size="48"):
         path = self.path("phantom.nrrd")
