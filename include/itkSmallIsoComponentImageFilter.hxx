@@ -429,10 +429,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
     return 0;
   }
 
-  const SizeValueType        dimension = ImageDimension;
-  const auto &               size = output->GetBufferedRegion().GetSize();
-  std::vector<OffsetValueType> stride(dimension, 1);
-  for (unsigned int a = 1; a < dimension; ++a)
+  const auto &    size = output->GetBufferedRegion().GetSize();
+  OffsetValueType stride[ImageDimension];
+  stride[0] = 1;
+  for (unsigned int a = 1; a < ImageDimension; ++a)
   {
     stride[a] = stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
   }
@@ -446,8 +446,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   const SizeValueType chunks = runs.size() < SmallIsoComponentRunLabeling::MinimumRunsToShare
                                  ? 1
                                  : std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
-  const auto forEachChunk = [this, chunks](auto && function) {
-    SmallIsoComponentRunLabeling::ParallelizeDynamically(this->GetMultiThreader(), chunks, function);
+  const auto forEachChunk = [this, &labeling, chunks](auto && function) {
+    labeling.Parallelize(this->GetMultiThreader(), chunks, function);
   };
   const auto          chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
   std::vector<std::vector<OutputPixelType>> values(chunks);
@@ -479,7 +479,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   const auto prefetchNeighbors = [&](const LineRun & ahead) {
     const SizeValueType first = firstVoxel(ahead);
     Prefetch(buffer + first);
-    for (unsigned int a = 1; a < dimension; ++a)
+    for (unsigned int a = 1; a < ImageDimension; ++a)
     {
       const auto step = static_cast<SizeValueType>(stride[a]);
       if (first >= step)
@@ -493,78 +493,89 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
     }
   };
   forEachChunk([&](SizeValueType chunk) {
-      std::vector<SizeValueType> coordinates;
-      const SizeValueType        length = size[0];
-      forEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
-        labeling.LineCoordinates(removed.Line, coordinates);
-        const OutputPixelType * line = buffer + removed.Line * length;
-        const SizeValueType     start = labeling.GetRunStart(removed.Run);
-        const SizeValueType     end = labeling.GetRunEnd(removed.Run, removed.Line);
-        // Along axis 0 every voxel of the run meets the same two values.
-        SizeValueType left = start;
-        while (left > 0 && sameSide(line[left - 1]))
+    const SizeValueType length = size[0];
+    auto &              chunkValues = values[chunk];
+    chunkValues.reserve(2 * (chunkBegin(chunk + 1) - chunkBegin(chunk)));
+    forEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
+      // The run's coordinates along axes 1..N-1.
+      SizeValueType coordinates[ImageDimension];
+      SizeValueType rest = removed.Line;
+      for (unsigned int a = 1; a < ImageDimension; ++a)
+      {
+        coordinates[a] = rest % size[a];
+        rest /= size[a];
+      }
+      const OutputPixelType * line = buffer + removed.Line * length;
+      const SizeValueType     start = labeling.GetRunStart(removed.Run);
+      const SizeValueType     end = labeling.GetRunEnd(removed.Run, removed.Line);
+      // Along axis 0 every voxel of the run meets the same two values.
+      SizeValueType left = start;
+      while (left > 0 && sameSide(line[left - 1]))
+      {
+        --left;
+      }
+      SizeValueType right = end;
+      while (right < length && sameSide(line[right]))
+      {
+        ++right;
+      }
+      double       lineSum = 0.0;
+      unsigned int lineFound = 0;
+      const auto   use = [](OutputPixelType v, double & sum, unsigned int & found) {
+        if (!IsNaN(v))
         {
-          --left;
+          sum += static_cast<double>(v);
+          ++found;
         }
-        SizeValueType right = end;
-        while (right < length && sameSide(line[right]))
+      };
+      if (left > 0)
+      {
+        use(line[left - 1], lineSum, lineFound);
+      }
+      if (right < length)
+      {
+        use(line[right], lineSum, lineFound);
+      }
+      for (const OutputPixelType * voxel = line + start; voxel < line + end; ++voxel)
+      {
+        double       sum = lineSum;
+        unsigned int found = lineFound;
+        for (unsigned int a = 1; a < ImageDimension; ++a)
         {
-          ++right;
+          const OffsetValueType step = stride[a];
+          const OutputPixelType * v = voxel;
+          for (SizeValueType k = coordinates[a]; k > 0; --k)
+          {
+            v -= step;
+            if (!sameSide(*v))
+            {
+              use(*v, sum, found);
+              break;
+            }
+          }
+          v = voxel;
+          for (SizeValueType k = coordinates[a] + 1; k < size[a]; ++k)
+          {
+            v += step;
+            if (!sameSide(*v))
+            {
+              use(*v, sum, found);
+              break;
+            }
+          }
         }
-        for (SizeValueType x = start; x < end; ++x)
+        if (found > 0)
         {
-          double        sum = 0.0;
-          unsigned int  found = 0;
-          const auto    use = [&](OutputPixelType v) {
-            if (!IsNaN(v))
-            {
-              sum += static_cast<double>(v);
-              ++found;
-            }
-          };
-          if (left > 0)
-          {
-            use(line[left - 1]);
-          }
-          if (right < length)
-          {
-            use(line[right]);
-          }
-          const OffsetValueType offset = static_cast<OffsetValueType>(removed.Line * length + x);
-          for (unsigned int a = 1; a < dimension; ++a)
-          {
-            const SizeValueType c = coordinates[a - 1];
-            for (SizeValueType k = 1; k <= c; ++k)
-            {
-              const OutputPixelType v = buffer[offset - static_cast<OffsetValueType>(k) * stride[a]];
-              if (!sameSide(v))
-              {
-                use(v);
-                break;
-              }
-            }
-            for (SizeValueType k = 1; c + k < size[a]; ++k)
-            {
-              const OutputPixelType v = buffer[offset + static_cast<OffsetValueType>(k) * stride[a]];
-              if (!sameSide(v))
-              {
-                use(v);
-                break;
-              }
-            }
-          }
-          if (found > 0)
-          {
-            values[chunk].push_back(MeanToPixel<OutputPixelType>(sum / found));
-          }
-          else
-          {
-            values[chunk].push_back(fallback);
-            ++unrepairable[chunk];
-          }
+          chunkValues.push_back(MeanToPixel<OutputPixelType>(sum / found));
         }
-      });
+        else
+        {
+          chunkValues.push_back(fallback);
+          ++unrepairable[chunk];
+        }
+      }
     });
+  });
 
   MaskPixelType *            maskBuffer = mask->GetBufferPointer();
   std::vector<SizeValueType> newlyModified(chunks, 0);
@@ -582,10 +593,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
           const SizeValueType first = firstVoxel(removed);
           const SizeValueType count =
             labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
-          std::copy(value, value + count, buffer + first);
+          // Runs are a few voxels: plain loops, no library calls.
+          SizeValueType newly = 0;
+          for (SizeValueType i = 0; i < count; ++i)
+          {
+            buffer[first + i] = value[i];
+            newly += maskBuffer[first + i] == 0 ? 1 : 0;
+            maskBuffer[first + i] = maskValue;
+          }
           value += count;
-          newlyModified[chunk] += std::count(maskBuffer + first, maskBuffer + first + count, MaskPixelType{ 0 });
-          std::fill(maskBuffer + first, maskBuffer + first + count, maskValue);
+          newlyModified[chunk] += newly;
         });
     });
   for (const SizeValueType u : unrepairable)
@@ -642,7 +659,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   m_PeakExtraMemoryInBytes = 0;
 
   this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  // The parallel steps below are short: one team of threads takes them all, instead of
+  // waking the threader's pool for each.
+  SmallIsoComponentWorkTeam    team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
   SmallIsoComponentRunLabeling labeling;
+  labeling.SetWorkTeam(&team);
   std::vector<SizeValueType>   extent(region.GetSize().begin(), region.GetSize().end());
   labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
 

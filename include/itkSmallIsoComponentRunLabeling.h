@@ -20,6 +20,7 @@
 
 #include "itkIntTypes.h"
 #include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
 #include <atomic>
@@ -105,12 +106,44 @@ public:
       nullptr);
   }
 
-  /** Calls function(slab) once for every slab, as ParallelizeDynamically() does. */
+  /** Hands the parallel loops of this labeling (and of the filter's steps that use
+   * Parallelize()) to \a team instead of the threader passed to each call; nullptr (the
+   * default) goes back to the threader. The team must outlive its use here. */
+  void
+  SetWorkTeam(SmallIsoComponentWorkTeam * team)
+  {
+    m_WorkTeam = team;
+  }
+
+  /** The work units a loop is shared among: the team's, or else the threader's. */
+  SizeValueType
+  GetNumberOfWorkUnits(MultiThreaderBase * threader) const
+  {
+    return m_WorkTeam != nullptr ? m_WorkTeam->GetNumberOfWorkUnits() : threader->GetNumberOfWorkUnits();
+  }
+
+  /** Calls function(item) once for every item in [0, items): through the work team if
+   * one is set, else as ParallelizeDynamically() does on \a threader. */
+  template <typename TFunction>
+  void
+  Parallelize(MultiThreaderBase * threader, SizeValueType items, TFunction && function) const
+  {
+    if (m_WorkTeam != nullptr)
+    {
+      m_WorkTeam->ForEach(items, function);
+    }
+    else
+    {
+      ParallelizeDynamically(threader, items, function);
+    }
+  }
+
+  /** Calls function(slab) once for every slab, as Parallelize() does. */
   template <typename TFunction>
   void
   ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
   {
-    ParallelizeDynamically(
+    this->Parallelize(
       threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) { function(static_cast<unsigned int>(slab)); });
   }
 
@@ -325,6 +358,7 @@ private:
   std::vector<uint8_t>                     m_ComponentAbove;
   std::vector<LineRun>                     m_CandidateRuns;
   SizeValueType                            m_PeakMemoryInBytes{ 0 };
+  SmallIsoComponentWorkTeam *             m_WorkTeam{ nullptr };
 };
 } // end namespace itk
 

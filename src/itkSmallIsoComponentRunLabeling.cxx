@@ -670,8 +670,8 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
   const SizeValueType chunks =
     flippedRuns.size() < MinimumRunsToShare
       ? 1
-      : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, threader->GetNumberOfWorkUnits()));
-  ParallelizeDynamically(threader, chunks, [&](SizeValueType chunk) {
+      : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
+  this->Parallelize(threader, chunks, [&](SizeValueType chunk) {
     joinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
   });
   if (scratchBytes)

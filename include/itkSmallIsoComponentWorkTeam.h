@@ -1,0 +1,120 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentWorkTeam_h
+#define itkSmallIsoComponentWorkTeam_h
+
+#include "itkIntTypes.h"
+#include "itkMultiThreaderBase.h"
+#include "SmallIsoComponentExport.h"
+
+#include <memory>
+#include <utility>
+
+namespace itk
+{
+/** \class SmallIsoComponentWorkTeam
+ * \brief Threads that stay with one filter update and take its parallel loops one after
+ * another.
+ *
+ * A filter update runs several short parallel loops with serial steps between them.
+ * Handing each loop to the threader wakes its pool threads each time, which costs tens
+ * of microseconds per loop on small volumes. A team asks ITK's thread pool once for its
+ * helper threads (when the threader is a PoolMultiThreader); they stay for the life of the
+ * team, waiting for the next loop (spinning briefly, then sleeping), and the thread that
+ * made the team (the filter's thread) takes part in every loop and runs everything
+ * between them, so progress and abort events stay on it.
+ *
+ * Items are handed out one at a time to whoever is free, so a helper that starts late or
+ * never (a busy pool) only means the calling thread does more of the loop: the team never
+ * waits for a helper to start. Other threaders (or one work unit) get each loop through
+ * the threader's ParallelizeArray(), as without a team.
+ *
+ * ForEach() must be called from the thread that made the team, one loop at a time. The
+ * first exception thrown by an item is rethrown by ForEach() once every item in progress
+ * has ended; the items not yet started are skipped.
+ *
+ * \ingroup SmallIsoComponent
+ */
+class SmallIsoComponent_EXPORT SmallIsoComponentWorkTeam
+{
+public:
+  /** A team for \a workUnits work units of \a threader: workUnits - 1 helpers at most
+   * (fewer if the pool has fewer threads). */
+  SmallIsoComponentWorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
+  /** Dismisses the helpers and waits for the ones that started to leave. */
+  ~SmallIsoComponentWorkTeam();
+  SmallIsoComponentWorkTeam(const SmallIsoComponentWorkTeam &) = delete;
+  SmallIsoComponentWorkTeam &
+  operator=(const SmallIsoComponentWorkTeam &) = delete;
+
+  /** The work units a loop is shared among: the calling thread and the helpers asked
+   * for, or the threader's work units when the team has no helpers. */
+  unsigned int
+  GetNumberOfWorkUnits() const
+  {
+    return m_NumberOfWorkUnits;
+  }
+
+  /** How many helpers were asked for (0: loops go through the threader). */
+  unsigned int
+  GetNumberOfHelpers() const
+  {
+    return m_NumberOfHelpers;
+  }
+
+  /** Calls function(item) once for every item in [0, items), each item taken by the
+   * next free member of the team. Returns when every item has been handled. */
+  template <typename TFunction>
+  void
+  ForEach(SizeValueType items, TFunction && function)
+  {
+    if (items == 0)
+    {
+      return;
+    }
+    if (items == 1 || m_NumberOfWorkUnits <= 1)
+    {
+      for (SizeValueType item = 0; item < items; ++item)
+      {
+        function(item);
+      }
+      return;
+    }
+    using FunctionType = std::remove_reference_t<TFunction>;
+    this->Run(
+      items,
+      [](void * context, SizeValueType item) { (*static_cast<FunctionType *>(context))(item); },
+      const_cast<void *>(static_cast<const void *>(&function)));
+  }
+
+  /** The shared state of a team (defined in the .cxx file). */
+  struct State;
+
+private:
+  using CallType = void (*)(void *, SizeValueType);
+  void
+  Run(SizeValueType items, CallType call, void * context);
+
+  MultiThreaderBase *    m_Threader;
+  unsigned int           m_NumberOfWorkUnits{ 1 };
+  unsigned int           m_NumberOfHelpers{ 0 };
+  std::shared_ptr<State> m_State;
+};
+} // end namespace itk
+
+#endif

@@ -1,0 +1,238 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The work team that takes the filter's parallel loops: every item exactly once, the
+// helpers really take part, a failing item's exception reaches the caller only after the
+// other items in progress have ended, a busy pool (helpers that never start during the
+// team's life) costs nothing but speed, and other threaders get the loops as before.
+
+#include "itkSmallIsoComponentWorkTeam.h"
+#include "itkPlatformMultiThreader.h"
+#include "itkPoolMultiThreader.h"
+#include "itkThreadPool.h"
+#include "gtest/gtest.h"
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <mutex>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace
+{
+using Team = itk::SmallIsoComponentWorkTeam;
+
+/** Runs loops of random sizes and checks that each visits every item exactly once. */
+void
+CheckEveryItemOnce(Team & team, unsigned int loops, std::mt19937 & random)
+{
+  std::uniform_int_distribution<unsigned int> itemCount(0, 3000);
+  for (unsigned int loop = 0; loop < loops; ++loop)
+  {
+    const unsigned int                     items = loop % 7 == 0 ? loop % 3 : itemCount(random);
+    std::vector<std::atomic<unsigned int>> visits(items);
+    for (auto & v : visits)
+    {
+      v = 0;
+    }
+    // Some items take a while, so that a loop that returned before its last items ended
+    // would be seen.
+    team.ForEach(items, [&](itk::SizeValueType item) {
+      if (item % 97 == 1)
+      {
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+      }
+      ++visits[item];
+    });
+    for (unsigned int item = 0; item < items; ++item)
+    {
+      ASSERT_EQ(visits[item].load(), 1u) << "loop " << loop << " of " << items << " items, item " << item;
+    }
+  }
+}
+
+itk::PoolMultiThreader::Pointer
+PoolThreader(unsigned int workUnits)
+{
+  auto threader = itk::PoolMultiThreader::New();
+  threader->SetMaximumNumberOfThreads(std::max(2u, workUnits));
+  threader->SetNumberOfWorkUnits(workUnits);
+  return threader;
+}
+} // namespace
+
+TEST(SmallIsoComponentWorkTeam, EveryItemOnceForAnyNumberOfWorkUnits)
+{
+  std::mt19937 random(7);
+  for (const unsigned int workUnits : { 1u, 2u, 3u, 8u })
+  {
+    auto threader = PoolThreader(workUnits);
+    Team team(threader, workUnits);
+    EXPECT_EQ(team.GetNumberOfHelpers() + 1, team.GetNumberOfWorkUnits());
+    EXPECT_LE(team.GetNumberOfWorkUnits(), workUnits);
+    if (workUnits > 1)
+    {
+      EXPECT_GE(team.GetNumberOfHelpers(), 1u);
+    }
+    CheckEveryItemOnce(team, 300, random);
+  }
+}
+
+TEST(SmallIsoComponentWorkTeam, HelpersTakePart)
+{
+  auto threader = PoolThreader(2);
+  Team team(threader, 2);
+  ASSERT_EQ(team.GetNumberOfHelpers(), 1u);
+  // Item 0 waits until another item runs on another thread: that can only be a helper.
+  const std::thread::id   caller = std::this_thread::get_id();
+  std::atomic<bool>       helperSeen{ false };
+  std::mutex              mutex;
+  std::set<std::thread::id> threads;
+  team.ForEach(64, [&](itk::SizeValueType item) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      threads.insert(std::this_thread::get_id());
+    }
+    if (std::this_thread::get_id() != caller)
+    {
+      helperSeen = true;
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (item == 0 && !helperSeen && std::chrono::steady_clock::now() < deadline)
+    {
+      std::this_thread::yield();
+    }
+  });
+  EXPECT_TRUE(helperSeen.load()) << "no item ran on a helper within 10 s";
+  EXPECT_EQ(threads.size(), 2u);
+}
+
+TEST(SmallIsoComponentWorkTeam, ExceptionAfterTheItemsInProgressEnd)
+{
+  auto threader = PoolThreader(2);
+  Team team(threader, 2);
+  std::atomic<unsigned int> inside{ 0 };
+  std::atomic<unsigned int> started{ 0 };
+  try
+  {
+    team.ForEach(1000, [&](itk::SizeValueType item) {
+      ++inside;
+      ++started;
+      if (item == 10)
+      {
+        --inside;
+        throw std::runtime_error("item 10 failed");
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      --inside;
+    });
+    FAIL() << "ForEach() did not rethrow the item's exception";
+  }
+  catch (const std::runtime_error & error)
+  {
+    EXPECT_STREQ(error.what(), "item 10 failed");
+    EXPECT_EQ(inside.load(), 0u) << "an item was still running when ForEach() threw";
+    EXPECT_LT(started.load(), 1000u) << "the items after the failure were not skipped";
+  }
+  // The team still works after a failed loop.
+  std::mt19937 random(11);
+  CheckEveryItemOnce(team, 50, random);
+}
+
+TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
+{
+  // Every pool thread is held by a task until the team has ended: its helpers cannot
+  // start, so the calling thread does every item, then they start late and leave.
+  itk::ThreadPool * pool = itk::ThreadPool::GetInstance();
+  auto              threader = PoolThreader(2);
+  const unsigned int poolThreads = pool->GetMaximumNumberOfThreads();
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<unsigned int> holding{ 0 };
+  std::vector<std::future<void>> holders;
+  for (unsigned int t = 0; t < poolThreads; ++t)
+  {
+    holders.push_back(pool->AddWork([released, &holding] {
+      ++holding;
+      released.wait();
+    }));
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (holding.load() < poolThreads && std::chrono::steady_clock::now() < deadline)
+  {
+    std::this_thread::yield();
+  }
+  ASSERT_EQ(holding.load(), poolThreads);
+  std::set<std::thread::id> threads;
+  {
+    Team team(threader, 2);
+    std::mutex mutex;
+    for (unsigned int loop = 0; loop < 20; ++loop)
+    {
+      std::vector<std::atomic<unsigned int>> visits(500);
+      for (auto & v : visits)
+      {
+        v = 0;
+      }
+      team.ForEach(visits.size(), [&](itk::SizeValueType item) {
+        ++visits[item];
+        const std::lock_guard<std::mutex> lock(mutex);
+        threads.insert(std::this_thread::get_id());
+      });
+      for (const auto & v : visits)
+      {
+        ASSERT_EQ(v.load(), 1u);
+      }
+    }
+  }
+  EXPECT_EQ(threads.size(), 1u);
+  EXPECT_EQ(*threads.begin(), std::this_thread::get_id());
+  release.set_value();
+  for (auto & holder : holders)
+  {
+    holder.get();
+  }
+  // The late helpers found the team gone and left; a new team gets helpers again.
+  auto threader2 = PoolThreader(2);
+  Team team(threader2, 2);
+  std::mt19937 random(13);
+  CheckEveryItemOnce(team, 20, random);
+}
+
+TEST(SmallIsoComponentWorkTeam, OtherThreadersTakeTheLoops)
+{
+  auto threader = itk::PlatformMultiThreader::New();
+  threader->SetNumberOfWorkUnits(3);
+  Team team(threader, 3);
+  EXPECT_EQ(team.GetNumberOfHelpers(), 0u);
+  EXPECT_EQ(team.GetNumberOfWorkUnits(), 3u);
+  std::mt19937 random(17);
+  CheckEveryItemOnce(team, 30, random);
+  EXPECT_THROW(team.ForEach(100,
+                            [](itk::SizeValueType item) {
+                              if (item == 50)
+                              {
+                                throw std::runtime_error("item 50 failed");
+                              }
+                            }),
+               std::runtime_error);
+}
