@@ -237,17 +237,22 @@ private:
   StatisticsOf(SideEnum side) const;
 
   /** Copies each line of the input to the output, clears its mask line, and encodes it
-   * as runs. */
-  void
+   * as runs. Large images of one pixel type are only encoded here: the copy and the
+   * clearing are left to \a fillLater(first, end), for lines [first, end), and true is
+   * returned. */
+  template <typename TFillLater>
+  bool
   EncodeRuns(SmallIsoComponentRunLabeling & labeling,
              const InputImageType *         input,
              OutputImageType *              output,
-             MaskImageType *                mask);
+             MaskImageType *                mask,
+             TFillLater &                   fillLater);
 
   /** Gives every voxel of \a runs (the runs of the components selected by
    * \a removedComponent, as SmallIsoComponentRunLabeling::CollectRuns() gives them) a
    * value on the other side, marks it in the mask with \a maskValue, and returns the
-   * number of voxels changed. */
+   * number of voxels changed. The values are read from \a source if given (a buffer
+   * that holds the output's values), else from the output. */
   SizeValueType
   Repair(const SmallIsoComponentRunLabeling &                      labeling,
          const std::vector<uint8_t> &                              removedComponent,
@@ -255,7 +260,8 @@ private:
          bool                                                      removedAreAbove,
          MaskPixelType                        maskValue,
          OutputImageType *                    output,
-         MaskImageType *                      mask);
+         MaskImageType *                      mask,
+         const OutputPixelType *              source = nullptr);
 
   void
   CheckAbort(float progress);

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <numeric>
 #if defined(__SSE2__)
@@ -162,6 +163,10 @@ Prefetch(const void * address)
   (void)address;
 #endif
 }
+
+/** Output and mask bytes per block when they are written while the components are
+ * numbered. */
+constexpr SizeValueType FillBlockBytes = SizeValueType{ 256 } << 10;
 
 /** How many removed runs ahead the repair requests the voxels it will read. */
 constexpr SizeValueType PrefetchDistance = 8;
@@ -334,11 +339,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CheckAbort(float progre
 }
 
 template <typename TInputImage, typename TOutputImage>
-void
+template <typename TFillLater>
+bool
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentRunLabeling & labeling,
                                                                    const InputImageType *         input,
                                                                    OutputImageType *              output,
-                                                                   MaskImageType *                mask)
+                                                                   MaskImageType *                mask,
+                                                                   TFillLater &                   fillLater)
 {
   MaskPixelType *        maskBuffer = mask->GetBufferPointer();
   const InputPixelType * inBuffer = input->GetBufferPointer();
@@ -355,22 +362,21 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
   {
     if (stream)
     {
-      // The output is streamed past the caches, so the lines are read from the input,
-      // which holds the same values.
-      threshold.Encode(
-        inBuffer,
-        labeling,
-        this->GetMultiThreader(),
-        [&](SizeValueType first, SizeValueType end) {
-          if (copy)
-          {
-            SmallIsoComponentDetail::StreamCopy(
-              outBuffer + first * length, inBuffer + first * length, (end - first) * length * sizeof(OutputPixelType));
-          }
-          SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, (end - first) * length * sizeof(MaskPixelType));
-        },
-        [] { SmallIsoComponentDetail::StreamFence(); });
-      return;
+      // The output would not stay in the caches: the lines are encoded from the input,
+      // which holds the same values, and the output and the mask are written later,
+      // with streaming stores, while the components are numbered (a serial step that
+      // leaves the other work units free).
+      threshold.Encode(inBuffer, labeling, this->GetMultiThreader(), [](SizeValueType, SizeValueType) {});
+      fillLater = [=](SizeValueType first, SizeValueType end) {
+        if (copy)
+        {
+          SmallIsoComponentDetail::StreamCopy(
+            outBuffer + first * length, inBuffer + first * length, (end - first) * length * sizeof(OutputPixelType));
+        }
+        SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, (end - first) * length * sizeof(MaskPixelType));
+        SmallIsoComponentDetail::StreamFence();
+      };
+      return true;
     }
   }
   threshold.Encode(
@@ -407,6 +413,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         SmallIsoComponentDetail::StreamFence();
       }
     });
+  return false;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -418,7 +425,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   bool                                                      removedAreAbove,
                                                                MaskPixelType                        maskValue,
                                                                OutputImageType *                    output,
-                                                               MaskImageType *                      mask)
+                                                               MaskImageType *                      mask,
+                                                               const OutputPixelType *              source)
 {
   using namespace SmallIsoComponentDetail;
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
@@ -437,6 +445,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
     stride[a] = stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
   }
   OutputPixelType * buffer = output->GetBufferPointer();
+  // The values are read from \a source, which holds the output's values before the pass.
+  const OutputPixelType * const read = source != nullptr ? source : buffer;
   const auto        sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
 
   // New values are computed, in chunks of runs, before any is written: walks read the
@@ -478,17 +488,17 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   };
   const auto prefetchNeighbors = [&](const LineRun & ahead) {
     const SizeValueType first = firstVoxel(ahead);
-    Prefetch(buffer + first);
+    Prefetch(read + first);
     for (unsigned int a = 1; a < ImageDimension; ++a)
     {
       const auto step = static_cast<SizeValueType>(stride[a]);
       if (first >= step)
       {
-        Prefetch(buffer + first - step);
+        Prefetch(read + first - step);
       }
       if (first + step < voxels)
       {
-        Prefetch(buffer + first + step);
+        Prefetch(read + first + step);
       }
     }
   };
@@ -505,7 +515,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
         coordinates[a] = rest % size[a];
         rest /= size[a];
       }
-      const OutputPixelType * line = buffer + removed.Line * length;
+      const OutputPixelType * line = read + removed.Line * length;
       const SizeValueType     start = labeling.GetRunStart(removed.Run);
       const SizeValueType     end = labeling.GetRunEnd(removed.Run, removed.Line);
       // Along axis 0 every voxel of the run meets the same two values.
@@ -668,18 +678,44 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
 
   // Phase 1: copy to the output and encode each line as runs of the two sides.
-  this->EncodeRuns(labeling, input, output, mask);
+  std::function<void(SizeValueType, SizeValueType)> fillLater;
+  const bool fillingLater = this->EncodeRuns(labeling, input, output, mask, fillLater);
   this->CheckAbort(0.3f);
   labeling.AssembleRuns(this->GetMultiThreader());
   m_PeakExtraMemoryInBytes = labeling.GetPeakMemoryInBytes();
   this->CheckAbort(0.35f);
 
-  // Phase 2: link touching runs of each side, then number the components.
-  labeling.LinkRuns(this->GetMultiThreader());
-  this->CheckAbort(0.6f);
-  // Every run of a component of at most K voxels is kept as a candidate, so that the
-  // passes below find the runs to repair without scanning all runs again.
-  labeling.LabelComponents(K);
+  // Phase 2: link touching runs of each side across the slabs, then number the
+  // components. Every run of a component of at most K voxels is kept as a candidate, so
+  // that the passes below find the runs to repair without scanning all runs again.
+  const auto linkAndNumber = [&labeling, K, this] {
+    labeling.LinkRuns(this->GetMultiThreader());
+    labeling.LabelComponents(K);
+  };
+  if (fillingLater)
+  {
+    // Item 0 is the serial linking and numbering; the other work units meanwhile write
+    // the output and the mask, block by block (the one that numbers joins them after).
+    const SizeValueType lines = labeling.GetNumberOfLines();
+    const SizeValueType lineBytes = labeling.GetLineLength() * (sizeof(OutputPixelType) + sizeof(MaskPixelType));
+    const SizeValueType linesPerBlock = std::max<SizeValueType>(1, FillBlockBytes / lineBytes);
+    const SizeValueType blocks = (lines + linesPerBlock - 1) / linesPerBlock;
+    labeling.Parallelize(this->GetMultiThreader(), 1 + blocks, [&](SizeValueType item) {
+      if (item == 0)
+      {
+        linkAndNumber();
+      }
+      else
+      {
+        const SizeValueType first = (item - 1) * linesPerBlock;
+        fillLater(first, std::min(lines, first + linesPerBlock));
+      }
+    });
+  }
+  else
+  {
+    linkAndNumber();
+  }
   m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes, labeling.GetMemoryInBytes());
   this->CheckAbort(0.7f);
 
@@ -732,7 +768,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   {
     removedAboveRuns = labeling.CollectCandidateRuns(removedAbove);
   }
-  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask);
+  // The output holds the input's values until this pass writes: where they are the
+  // same type, the input (likely still in the caches, unlike a streamed output) is read.
+  const OutputPixelType * before = nullptr;
+  if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
+  {
+    before = input->GetBufferPointer();
+  }
+  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before);
   this->CheckAbort(0.8f);
 
   // Phase 4: the below pass. With Both it sees the result of the above pass: each removed

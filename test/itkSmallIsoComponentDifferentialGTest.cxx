@@ -120,5 +120,24 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
       EXPECT_EQ(DifferencesFromReference(filter.GetPointer(), expected, settings.MaximumComponentSize), "")
         << "fullyConnected=" << fullyConnected << " workUnits=" << workUnits;
     }
+
+    // In place: the output and the input are one buffer, which the above pass reads.
+    const auto      copy = MakeImage<uint8_t, 3>(extent, values);
+    const uint8_t * buffer = copy->GetBufferPointer();
+    const auto      inPlace = RunFilter<ImageType>(copy, settings, 2, true);
+    ASSERT_EQ(inPlace->GetOutput()->GetBufferPointer(), buffer) << "the filter did not run in place";
+    EXPECT_EQ(DifferencesFromReference(inPlace.GetPointer(), expected, settings.MaximumComponentSize), "")
+      << "fullyConnected=" << fullyConnected << " in place";
+
+    // A second update of the same filter writes over the first one's output and mask.
+    const auto again = RunFilter<ImageType>(input, settings, 2);
+    Parameters other = settings;
+    other.IsoValue = 100;
+    again->SetIsoValue(other.IsoValue);
+    again->Update();
+    EXPECT_EQ(DifferencesFromReference(
+                again.GetPointer(), Reference::Run<uint8_t>(input.GetPointer(), other), other.MaximumComponentSize),
+              "")
+      << "fullyConnected=" << fullyConnected << " second update";
   }
 }
