@@ -41,8 +41,11 @@ namespace itk
  *
  * Items are handed out one at a time to whoever is free, so a helper that starts late or
  * never (a busy pool) only means the calling thread does more of the loop: the team never
- * waits for a helper to start. Other threaders (or one work unit) get each loop through
- * the threader's ParallelizeArray(), as without a team.
+ * waits for a helper to start. A helper that has not started by the end of the first loop
+ * does not join at all: a thread that starts that late is on a busy core and likely to be
+ * held up again in the middle of an item, which the loop would have to wait for. Other
+ * threaders (or one work unit) get each loop through the threader's ParallelizeArray(),
+ * as without a team.
  *
  * ForEach() must be called from the thread that made the team, one loop at a time. The
  * first exception thrown by an item is rethrown by ForEach() once every item in progress
@@ -113,6 +116,7 @@ private:
   MultiThreaderBase *    m_Threader;
   unsigned int           m_NumberOfWorkUnits{ 1 };
   unsigned int           m_NumberOfHelpers{ 0 };
+  bool                   m_FirstLoopEnded{ false };
   std::shared_ptr<State> m_State;
 };
 } // end namespace itk

@@ -110,6 +110,8 @@ struct SmallIsoComponentWorkTeam::State
   std::condition_variable Left;
   // Guarded by Mutex; Quitting mirrors Quit for the helpers' spinning.
   bool              Quit{ false };
+  // Whether a helper that starts now may still join (see Run()).
+  bool              Open{ true };
   unsigned int      Active{ 0 };
   std::atomic<bool> Quitting{ false };
   // Helpers asleep on Wake (changed under Mutex).
@@ -125,9 +127,9 @@ struct SmallIsoComponentWorkTeam::State
   {
     {
       const std::lock_guard<std::mutex> lock(Mutex);
-      if (Quit)
+      if (Quit || !Open)
       {
-        // The team ended before this helper started.
+        // The team ended, or its first loop did, before this helper started.
         return;
       }
       ++Active;
@@ -228,6 +230,15 @@ SmallIsoComponentWorkTeam::Run(SizeValueType items, CallType call, void * contex
     // looks for the job).
     state.Current = nullptr;
     SpinUntil([&] { return state.Busy.load() == 0; });
+    if (!m_FirstLoopEnded)
+    {
+      // A helper that has not started by the end of the first loop stays out: its core
+      // is evidently busy (a thread woken that late is often held up again), and a
+      // loop cannot end before every item a helper took has ended.
+      const std::lock_guard<std::mutex> lock(state.Mutex);
+      state.Open = false;
+      m_FirstLoopEnded = true;
+    }
   }
   if (job.Error)
   {

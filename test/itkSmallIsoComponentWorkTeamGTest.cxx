@@ -19,7 +19,8 @@
 // The work team that takes the filter's parallel loops: every item exactly once, the
 // helpers really take part, a failing item's exception reaches the caller only after the
 // other items in progress have ended, a busy pool (helpers that never start during the
-// team's life) costs nothing but speed, and other threaders get the loops as before.
+// team's life) costs nothing but speed, a helper that misses the first loop stays out,
+// and other threaders get the loops as before.
 
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "itkPlatformMultiThreader.h"
@@ -216,6 +217,50 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
   Team team(threader2, 2);
   std::mt19937 random(13);
   CheckEveryItemOnce(team, 20, random);
+}
+
+TEST(SmallIsoComponentWorkTeam, HelperLateForTheFirstLoopStaysOut)
+{
+  // The pool's threads are held through the team's first loop, then freed: the helper
+  // that starts afterwards must not join the second loop.
+  auto                           threader = PoolThreader(2);
+  itk::ThreadPool *              pool = itk::ThreadPool::GetInstance();
+  const unsigned int             poolThreads = pool->GetMaximumNumberOfThreads();
+  std::promise<void>             release;
+  std::shared_future<void>       released = release.get_future().share();
+  std::atomic<unsigned int>      holding{ 0 };
+  std::vector<std::future<void>> holders;
+  for (unsigned int t = 0; t < poolThreads; ++t)
+  {
+    holders.push_back(pool->AddWork([released, &holding] {
+      ++holding;
+      released.wait();
+    }));
+  }
+  while (holding.load() < poolThreads)
+  {
+    std::this_thread::yield();
+  }
+  Team team(threader, 2);
+  ASSERT_EQ(team.GetNumberOfHelpers(), 1u);
+  std::set<std::thread::id> threads;
+  std::mutex                mutex;
+  const auto                record = [&](itk::SizeValueType) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    threads.insert(std::this_thread::get_id());
+  };
+  team.ForEach(100, record);
+  release.set_value();
+  for (auto & holder : holders)
+  {
+    holder.get();
+  }
+  // The pool is free now: a helper that joined would take items of this slow loop.
+  team.ForEach(50, [&](itk::SizeValueType item) {
+    record(item);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  });
+  EXPECT_EQ(threads.size(), 1u) << "a helper that started after the first loop took items";
 }
 
 TEST(SmallIsoComponentWorkTeam, OtherThreadersTakeTheLoops)
