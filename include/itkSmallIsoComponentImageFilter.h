@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentImageFilter_h
 
 #include "itkInPlaceImageFilter.h"
+#include <functional>
 #include "itkSmallIsoComponentEnums.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
@@ -252,7 +253,9 @@ private:
    * \a removedComponent, as SmallIsoComponentRunLabeling::CollectRuns() gives them) a
    * value on the other side, marks it in the mask with \a maskValue, and returns the
    * number of voxels changed. The values are read from \a source if given (a buffer
-   * that holds the output's values), else from the output. */
+   * that holds the output's values), else from the output. \a alongside, if given, is
+   * called for each chunk [first, last) of \a runs in the loop that computes the new
+   * values (work on the same runs, which holds \a alongsideBytes). */
   SizeValueType
   Repair(const SmallIsoComponentRunLabeling &                      labeling,
          const std::vector<uint8_t> &                              removedComponent,
@@ -261,7 +264,9 @@ private:
          MaskPixelType                        maskValue,
          OutputImageType *                    output,
          MaskImageType *                      mask,
-         const OutputPixelType *              source = nullptr);
+         const OutputPixelType *              source = nullptr,
+         const std::function<void(SizeValueType, SizeValueType)> & alongside = nullptr,
+         SizeValueType                        alongsideBytes = 0);
 
   void
   CheckAbort(float progress);

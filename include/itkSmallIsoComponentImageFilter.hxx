@@ -426,7 +426,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
                                                                MaskPixelType                        maskValue,
                                                                OutputImageType *                    output,
                                                                MaskImageType *                      mask,
-                                                               const OutputPixelType *              source)
+                                                               const OutputPixelType *              source,
+                                                               const std::function<void(SizeValueType, SizeValueType)> & alongside,
+                                                               SizeValueType alongsideBytes)
 {
   using namespace SmallIsoComponentDetail;
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
@@ -585,6 +587,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
         }
       }
     });
+    if (alongside)
+    {
+      alongside(chunkBegin(chunk), chunkBegin(chunk + 1));
+    }
   });
 
   MaskPixelType *            maskBuffer = mask->GetBufferPointer();
@@ -621,7 +627,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   }
   m_PeakExtraMemoryInBytes =
     std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(LineRun) + valueBytes);
+             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(LineRun) + valueBytes +
+               alongsideBytes);
   return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
 }
 
@@ -775,12 +782,24 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   {
     before = input->GetBufferPointer();
   }
-  m_NumberOfModifiedVoxels += this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before);
+  // The below pass (phase 4) with Both sees the result of this one: each removed above
+  // component joins the below components it touches. Finding those visits the same runs
+  // as this pass's repair, so it is done in the repair's loop.
+  const bool                                         aboveWasRemoved =
+    m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+  const std::vector<SmallIsoComponentRunLabeling::LineRun> noRuns;
+  SmallIsoComponentRunLabeling::FlipGrouping grouping(labeling, aboveWasRemoved ? removedAboveRuns : noRuns);
+  const SizeValueType                        groupingBytes = grouping.GetScratchBytes();
+  std::function<void(SizeValueType, SizeValueType)> joinFlipped;
+  if (aboveWasRemoved)
+  {
+    joinFlipped = [&grouping](SizeValueType first, SizeValueType last) { grouping.JoinNeighbors(first, last); };
+  }
+  m_NumberOfModifiedVoxels += this->Repair(
+    labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before, joinFlipped, groupingBytes);
   this->CheckAbort(0.8f);
 
-  // Phase 4: the below pass. With Both it sees the result of the above pass: each removed
-  // above component has joined the below components it touches.
-  const bool aboveWasRemoved = m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+  // Phase 4: the below pass, on the groups of below components joined by the flipped ones.
   if (!aboveWasRemoved)
   {
     std::fill(removedAbove.begin(), removedAbove.end(), 0);
@@ -788,9 +807,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   }
   std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> groupOfComponent;
   std::vector<SizeValueType>                                    groupSize;
-  SizeValueType                                                 groupingBytes = 0;
-  labeling.GroupAfterFlip(
-    removedAbove, removedAboveRuns, groupOfComponent, groupSize, this->GetMultiThreader(), &groupingBytes);
+  grouping.Finish(removedAbove, groupOfComponent, groupSize);
   m_PeakExtraMemoryInBytes =
     std::max(m_PeakExtraMemoryInBytes,
              labeling.GetMemoryInBytes() + removedAbove.capacity() +

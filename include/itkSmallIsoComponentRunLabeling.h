@@ -291,6 +291,45 @@ public:
                  std::vector<SizeValueType> &      groupSize,
                  MultiThreaderBase *               threader,
                  SizeValueType *                   scratchBytes = nullptr) const;
+  /** GroupAfterFlip() in steps, so that the joins can share a loop with other work on
+   * the same runs: JoinNeighbors() for every range of the flipped runs (concurrently if
+   * wanted), then Finish(). The labeling and the runs must outlive it. */
+  class SmallIsoComponent_EXPORT FlipGrouping
+  {
+  public:
+    FlipGrouping(const SmallIsoComponentRunLabeling & labeling, const std::vector<LineRun> & flippedRuns);
+    ~FlipGrouping();
+    FlipGrouping(const FlipGrouping &) = delete;
+    FlipGrouping &
+    operator=(const FlipGrouping &) = delete;
+
+    /** Joins the components of flippedRuns[first, last) with the components of the
+     * below runs they touch. Safe to call from several threads at once. */
+    void
+    JoinNeighbors(SizeValueType first, SizeValueType last);
+
+    /** After every flipped run has been joined: the groups, as GroupAfterFlip() gives
+     * them. */
+    void
+    Finish(const std::vector<uint8_t> &      flipped,
+           std::vector<ComponentIndexType> & groupOfComponent,
+           std::vector<SizeValueType> &      groupSize);
+
+    /** Bytes of scratch held. */
+    SizeValueType
+    GetScratchBytes() const;
+
+  private:
+    ComponentIndexType
+    Find(ComponentIndexType c);
+    void
+    Join(ComponentIndexType a, ComponentIndexType b);
+
+    const SmallIsoComponentRunLabeling &               m_Labeling;
+    const std::vector<LineRun> &                       m_FlippedRuns;
+    std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
+  };
+
   /** The runs whose component is flagged in \a selected (one flag per component), in
    * run order; the slabs are scanned in parallel. */
   std::vector<LineRun>

@@ -521,227 +521,256 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
                                              MultiThreaderBase *               threader,
                                              SizeValueType *                   scratchBytes) const
 {
-  const SizeValueType numberOfComponents = m_ComponentSize.size();
-  // A union-find over components that work units share without locks: a root is linked
-  // under another root by compare-and-swap, always the larger index under the smaller, so
-  // every root is the smallest component of its group whatever the order of the links;
-  // path halving only ever replaces a parent by one of its ancestors.
-  using AtomicComponent = std::atomic<ComponentIndexType>;
-  std::unique_ptr<AtomicComponent[]> parent(new AtomicComponent[numberOfComponents]);
-  for (SizeValueType c = 0; c < numberOfComponents; ++c)
-  {
-    parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
-  }
-  const auto find = [&parent](ComponentIndexType c) {
-    while (true)
-    {
-      const ComponentIndexType p = parent[c].load(std::memory_order_relaxed);
-      if (p == c)
-      {
-        return c;
-      }
-      const ComponentIndexType grandparent = parent[p].load(std::memory_order_relaxed);
-      if (grandparent != p)
-      {
-        parent[c].store(grandparent, std::memory_order_relaxed);
-      }
-      c = grandparent;
-    }
-  };
-  const auto join = [&parent, &find](ComponentIndexType a, ComponentIndexType b) {
-    while (true)
-    {
-      a = find(a);
-      b = find(b);
-      if (a == b)
-      {
-        return;
-      }
-      if (a < b)
-      {
-        std::swap(a, b);
-      }
-      ComponentIndexType expected = a;
-      if (parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
-      {
-        return;
-      }
-    }
-  };
-
-  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
-  // those are below) and the below runs it overlaps in the neighbouring lines; its
-  // component joins theirs. Chunks of the flipped runs are handled in parallel; a repeat
-  // of the previous pair is skipped.
-  const SizeValueType          allowance = m_FullyConnected ? 1 : 0;
-  const RunIndexType * const   label = m_RunLabel.get();
-  const CoordinateType * const runStart = m_RunStart.get();
-  const auto                   joinNeighbors = [&](SizeValueType first, SizeValueType last) {
-    std::vector<SizeValueType> coordinates;
-    SizeValueType              coordinatesLine = NumericTraits<SizeValueType>::max();
-    ComponentIndexType         lastA = NoGroup;
-    ComponentIndexType         lastB = NoGroup;
-    const auto                 add = [&](ComponentIndexType a, ComponentIndexType b) {
-      if (a != lastA || b != lastB)
-      {
-        lastA = a;
-        lastB = b;
-        join(a, b);
-      }
-    };
-    // The below runs of line \a other that overlap [from, to): the first run that ends
-    // after from is found by a short walk (lines hold few runs) or a binary search.
-    const auto joinOverlapping = [&](ComponentIndexType component,
-                                     SizeValueType      other,
-                                     SizeValueType      from,
-                                     SizeValueType      to) {
-      const SizeValueType otherBegin = m_LineRunBegin[other];
-      const SizeValueType otherEnd = m_LineRunBegin[other + 1];
-      SizeValueType       k = otherBegin;
-      if (otherEnd - otherBegin > 8)
-      {
-        k = static_cast<SizeValueType>(std::upper_bound(runStart + otherBegin + 1, runStart + otherEnd, from) -
-                                       runStart) -
-            1;
-      }
-      else
-      {
-        while (k + 1 < otherEnd && runStart[k + 1] <= from)
-        {
-          ++k;
-        }
-      }
-      bool above = (m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
-      for (; k < otherEnd && runStart[k] < to; ++k, above = !above)
-      {
-        if (!above)
-        {
-          add(component, label[k]);
-        }
-      }
-    };
-    const bool faceConnected3D = !m_FullyConnected && m_Size.size() == 3;
-    const SizeValueType plane = m_Size.size() > 1 ? m_Size[1] : 1;
-    // The neighbouring lines of the runs ahead are requested early: first where their
-    // runs begin, then (a few runs later, once that has arrived) their runs.
-    const auto prefetchLines = [&](SizeValueType ahead) {
-      const SizeValueType line = flippedRuns[ahead].Line;
-      PrefetchLine(&m_LineRunBegin[line]);
-      if (line >= plane)
-      {
-        PrefetchLine(&m_LineRunBegin[line - plane]);
-      }
-      if (line + plane < m_NumberOfLines)
-      {
-        PrefetchLine(&m_LineRunBegin[line + plane]);
-      }
-    };
-    const auto prefetchRuns = [&](SizeValueType ahead) {
-      const SizeValueType line = flippedRuns[ahead].Line;
-      const auto          runsOf = [&](SizeValueType other) {
-        const SizeValueType begin = m_LineRunBegin[other];
-        PrefetchLine(runStart + begin);
-        PrefetchLine(label + begin);
-      };
-      runsOf(line);
-      if (line >= plane)
-      {
-        runsOf(line - plane);
-      }
-      if (line + plane < m_NumberOfLines)
-      {
-        runsOf(line + plane);
-      }
-    };
-    for (SizeValueType i = first; i < last; ++i)
-    {
-      if (i + 16 < last)
-      {
-        prefetchLines(i + 16);
-      }
-      if (i + 8 < last)
-      {
-        prefetchRuns(i + 8);
-      }
-      const SizeValueType      run = flippedRuns[i].Run;
-      const SizeValueType      line = flippedRuns[i].Line;
-      const ComponentIndexType component = label[run];
-      const SizeValueType      lineBegin = m_LineRunBegin[line];
-      const SizeValueType      lineEnd = m_LineRunBegin[line + 1];
-      if (run > lineBegin)
-      {
-        add(component, label[run - 1]);
-      }
-      if (run + 1 < lineEnd)
-      {
-        add(component, label[run + 1]);
-      }
-      const SizeValueType start = runStart[run];
-      const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : m_Size[0];
-      if (faceConnected3D)
-      {
-        // The common case, without the general neighbour tables: the lines before and
-        // after along y and along z.
-        const SizeValueType rows = m_Size[1];
-        const SizeValueType y = line % rows;
-        const SizeValueType z = line / rows;
-        if (y > 0)
-        {
-          joinOverlapping(component, line - 1, start, end);
-        }
-        if (y + 1 < rows)
-        {
-          joinOverlapping(component, line + 1, start, end);
-        }
-        if (z > 0)
-        {
-          joinOverlapping(component, line - rows, start, end);
-        }
-        if (z + 1 < m_Size[2])
-        {
-          joinOverlapping(component, line + rows, start, end);
-        }
-        continue;
-      }
-      if (line != coordinatesLine)
-      {
-        this->LineCoordinates(line, coordinates);
-        coordinatesLine = line;
-      }
-      // With full connectivity a run also touches the runs that end just before it or
-      // start just after it in the neighbouring lines.
-      const SizeValueType from = start >= allowance ? start - allowance : 0;
-      for (const LineNeighbor & neighbor : m_AllNeighbors)
-      {
-        if (this->NeighborInside(coordinates, neighbor))
-        {
-          joinOverlapping(component, line + neighbor.LineOffset, from, end + allowance);
-        }
-      }
-    }
-  };
+  FlipGrouping grouping(*this, flippedRuns);
   // Chunks taken as the work units become free; a few runs stay on the calling thread.
   const SizeValueType chunks =
     flippedRuns.size() < MinimumRunsToShare
       ? 1
       : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
   this->Parallelize(threader, chunks, [&](SizeValueType chunk) {
-    joinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
+    grouping.JoinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
   });
   if (scratchBytes)
   {
-    *scratchBytes = numberOfComponents * sizeof(AtomicComponent);
+    *scratchBytes = grouping.GetScratchBytes();
   }
+  grouping.Finish(flipped, groupOfComponent, groupSize);
+}
 
+// A union-find over components that work units share without locks: a root is linked
+// under another root by compare-and-swap, always the larger index under the smaller, so
+// every root is the smallest component of its group whatever the order of the links;
+// path halving only ever replaces a parent by one of its ancestors.
+SmallIsoComponentRunLabeling::FlipGrouping::FlipGrouping(const SmallIsoComponentRunLabeling & labeling,
+                                                         const std::vector<LineRun> &         flippedRuns)
+  : m_Labeling(labeling)
+  , m_FlippedRuns(flippedRuns)
+  , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
+{
+  for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+  {
+    m_Parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
+  }
+}
+
+SmallIsoComponentRunLabeling::FlipGrouping::~FlipGrouping() = default;
+
+SizeValueType
+SmallIsoComponentRunLabeling::FlipGrouping::GetScratchBytes() const
+{
+  return m_Labeling.GetNumberOfComponents() * sizeof(std::atomic<ComponentIndexType>);
+}
+
+inline auto
+SmallIsoComponentRunLabeling::FlipGrouping::Find(ComponentIndexType c) -> ComponentIndexType
+{
+  while (true)
+  {
+    const ComponentIndexType p = m_Parent[c].load(std::memory_order_relaxed);
+    if (p == c)
+    {
+      return c;
+    }
+    const ComponentIndexType grandparent = m_Parent[p].load(std::memory_order_relaxed);
+    if (grandparent != p)
+    {
+      m_Parent[c].store(grandparent, std::memory_order_relaxed);
+    }
+    c = grandparent;
+  }
+}
+
+inline void
+SmallIsoComponentRunLabeling::FlipGrouping::Join(ComponentIndexType a, ComponentIndexType b)
+{
+  while (true)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a == b)
+    {
+      return;
+    }
+    if (a < b)
+    {
+      std::swap(a, b);
+    }
+    ComponentIndexType expected = a;
+    if (m_Parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
+    {
+      return;
+    }
+  }
+}
+
+void
+SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, SizeValueType last)
+{
+  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
+  // those are below) and the below runs it overlaps in the neighbouring lines; its
+  // component joins theirs. A repeat of the previous pair is skipped.
+  const SmallIsoComponentRunLabeling & l = m_Labeling;
+  const std::vector<LineRun> &         flippedRuns = m_FlippedRuns;
+  const SizeValueType                  allowance = l.m_FullyConnected ? 1 : 0;
+  const RunIndexType * const           label = l.m_RunLabel.get();
+  const CoordinateType * const         runStart = l.m_RunStart.get();
+  const SizeValueType * const          lineRunBegin = l.m_LineRunBegin.data();
+  std::vector<SizeValueType>           coordinates;
+  SizeValueType                        coordinatesLine = NumericTraits<SizeValueType>::max();
+  ComponentIndexType                   lastA = NoGroup;
+  ComponentIndexType                   lastB = NoGroup;
+  const auto                           add = [&](ComponentIndexType a, ComponentIndexType b) {
+    if (a != lastA || b != lastB)
+    {
+      lastA = a;
+      lastB = b;
+      this->Join(a, b);
+    }
+  };
+  // The below runs of line \a other that overlap [from, to): the first run that ends
+  // after from is found by a short walk (lines hold few runs) or a binary search.
+  const auto joinOverlapping = [&](ComponentIndexType component, SizeValueType other, SizeValueType from, SizeValueType to) {
+    const SizeValueType otherBegin = lineRunBegin[other];
+    const SizeValueType otherEnd = lineRunBegin[other + 1];
+    SizeValueType       k = otherBegin;
+    if (otherEnd - otherBegin > 8)
+    {
+      k = static_cast<SizeValueType>(std::upper_bound(runStart + otherBegin + 1, runStart + otherEnd, from) - runStart) -
+          1;
+    }
+    else
+    {
+      while (k + 1 < otherEnd && runStart[k + 1] <= from)
+      {
+        ++k;
+      }
+    }
+    bool above = (l.m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
+    for (; k < otherEnd && runStart[k] < to; ++k, above = !above)
+    {
+      if (!above)
+      {
+        add(component, label[k]);
+      }
+    }
+  };
+  const bool          faceConnected3D = !l.m_FullyConnected && l.m_Size.size() == 3;
+  const SizeValueType plane = l.m_Size.size() > 1 ? l.m_Size[1] : 1;
+  // The neighbouring lines of the runs ahead are requested early: first where their runs
+  // begin, then (a few runs later, once that has arrived) their runs.
+  const auto prefetchLines = [&](SizeValueType ahead) {
+    const SizeValueType line = flippedRuns[ahead].Line;
+    PrefetchLine(lineRunBegin + line);
+    if (line >= plane)
+    {
+      PrefetchLine(lineRunBegin + line - plane);
+    }
+    if (line + plane < l.m_NumberOfLines)
+    {
+      PrefetchLine(lineRunBegin + line + plane);
+    }
+  };
+  const auto prefetchRuns = [&](SizeValueType ahead) {
+    const SizeValueType line = flippedRuns[ahead].Line;
+    const auto          runsOf = [&](SizeValueType other) {
+      const SizeValueType begin = lineRunBegin[other];
+      PrefetchLine(runStart + begin);
+      PrefetchLine(label + begin);
+    };
+    runsOf(line);
+    if (line >= plane)
+    {
+      runsOf(line - plane);
+    }
+    if (line + plane < l.m_NumberOfLines)
+    {
+      runsOf(line + plane);
+    }
+  };
+  for (SizeValueType i = first; i < last; ++i)
+  {
+    if (i + 16 < last)
+    {
+      prefetchLines(i + 16);
+    }
+    if (i + 8 < last)
+    {
+      prefetchRuns(i + 8);
+    }
+    const SizeValueType      run = flippedRuns[i].Run;
+    const SizeValueType      line = flippedRuns[i].Line;
+    const ComponentIndexType component = label[run];
+    const SizeValueType      lineBegin = lineRunBegin[line];
+    const SizeValueType      lineEnd = lineRunBegin[line + 1];
+    if (run > lineBegin)
+    {
+      add(component, label[run - 1]);
+    }
+    if (run + 1 < lineEnd)
+    {
+      add(component, label[run + 1]);
+    }
+    const SizeValueType start = runStart[run];
+    const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : l.m_Size[0];
+    if (faceConnected3D)
+    {
+      // The common case, without the general neighbour tables: the lines before and
+      // after along y and along z.
+      const SizeValueType rows = l.m_Size[1];
+      const SizeValueType y = line % rows;
+      const SizeValueType z = line / rows;
+      if (y > 0)
+      {
+        joinOverlapping(component, line - 1, start, end);
+      }
+      if (y + 1 < rows)
+      {
+        joinOverlapping(component, line + 1, start, end);
+      }
+      if (z > 0)
+      {
+        joinOverlapping(component, line - rows, start, end);
+      }
+      if (z + 1 < l.m_Size[2])
+      {
+        joinOverlapping(component, line + rows, start, end);
+      }
+      continue;
+    }
+    if (line != coordinatesLine)
+    {
+      l.LineCoordinates(line, coordinates);
+      coordinatesLine = line;
+    }
+    // With full connectivity a run also touches the runs that end just before it or
+    // start just after it in the neighbouring lines.
+    const SizeValueType from = start >= allowance ? start - allowance : 0;
+    for (const LineNeighbor & neighbor : l.m_AllNeighbors)
+    {
+      if (l.NeighborInside(coordinates, neighbor))
+      {
+        joinOverlapping(component, line + neighbor.LineOffset, from, end + allowance);
+      }
+    }
+  }
+}
+
+void
+SmallIsoComponentRunLabeling::FlipGrouping::Finish(const std::vector<uint8_t> &      flipped,
+                                                   std::vector<ComponentIndexType> & groupOfComponent,
+                                                   std::vector<SizeValueType> &      groupSize)
+{
+  const SmallIsoComponentRunLabeling & l = m_Labeling;
+  const SizeValueType                  numberOfComponents = l.GetNumberOfComponents();
   groupOfComponent.assign(numberOfComponents, NoGroup);
   groupSize.clear();
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
-    if (m_ComponentAbove[c] && !flipped[c])
+    if (l.m_ComponentAbove[c] && !flipped[c])
     {
       continue;
     }
-    const ComponentIndexType root = find(static_cast<ComponentIndexType>(c));
+    const ComponentIndexType root = this->Find(static_cast<ComponentIndexType>(c));
     // Roots are the smallest member, so a root's group is numbered before its members.
     if (groupOfComponent[root] == NoGroup)
     {
@@ -749,7 +778,7 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
       groupSize.push_back(0);
     }
     groupOfComponent[c] = groupOfComponent[root];
-    groupSize[groupOfComponent[c]] += m_ComponentSize[c];
+    groupSize[groupOfComponent[c]] += l.m_ComponentSize[c];
   }
 }
 
