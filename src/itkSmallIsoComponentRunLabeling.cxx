@@ -615,6 +615,7 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
   const RunIndexType * const           label = l.m_RunLabel.get();
   const CoordinateType * const         runStart = l.m_RunStart.get();
   const SizeValueType * const          lineRunBegin = l.m_LineRunBegin.data();
+  const uint8_t * const                lineFirstAbove = l.m_LineFirstAbove.data();
   std::vector<SizeValueType>           coordinates;
   SizeValueType                        coordinatesLine = NumericTraits<SizeValueType>::max();
   ComponentIndexType                   lastA = NoGroup;
@@ -627,25 +628,21 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
       this->Join(a, b);
     }
   };
-  // The below runs of line \a other that overlap [from, to): the first run that ends
-  // after from is found by a short walk (lines hold few runs) or a binary search.
+  // The below runs of line \a other that overlap [from, to). The run that holds from
+  // (the last one starting at or before it; the line's first run starts at 0) is found
+  // by a binary search without branches, which the run starts would make unpredictable.
   const auto joinOverlapping = [&](ComponentIndexType component, SizeValueType other, SizeValueType from, SizeValueType to) {
-    const SizeValueType otherBegin = lineRunBegin[other];
-    const SizeValueType otherEnd = lineRunBegin[other + 1];
-    SizeValueType       k = otherBegin;
-    if (otherEnd - otherBegin > 8)
+    const SizeValueType    otherBegin = lineRunBegin[other];
+    const SizeValueType    otherEnd = lineRunBegin[other + 1];
+    const CoordinateType * holder = runStart + otherBegin;
+    for (SizeValueType n = otherEnd - otherBegin; n > 1;)
     {
-      k = static_cast<SizeValueType>(std::upper_bound(runStart + otherBegin + 1, runStart + otherEnd, from) - runStart) -
-          1;
+      const SizeValueType half = n / 2;
+      holder = holder[half] <= from ? holder + half : holder;
+      n -= half;
     }
-    else
-    {
-      while (k + 1 < otherEnd && runStart[k + 1] <= from)
-      {
-        ++k;
-      }
-    }
-    bool above = (l.m_LineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
+    SizeValueType k = static_cast<SizeValueType>(holder - runStart);
+    bool above = (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
     for (; k < otherEnd && runStart[k] < to; ++k, above = !above)
     {
       if (!above)
@@ -661,13 +658,16 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
   const auto prefetchLines = [&](SizeValueType ahead) {
     const SizeValueType line = flippedRuns[ahead].Line;
     PrefetchLine(lineRunBegin + line);
+    PrefetchLine(lineFirstAbove + line);
     if (line >= plane)
     {
       PrefetchLine(lineRunBegin + line - plane);
+      PrefetchLine(lineFirstAbove + line - plane);
     }
     if (line + plane < l.m_NumberOfLines)
     {
       PrefetchLine(lineRunBegin + line + plane);
+      PrefetchLine(lineFirstAbove + line + plane);
     }
   };
   const auto prefetchRuns = [&](SizeValueType ahead) {
