@@ -457,7 +457,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   // pool costs more than it saves.
   const SizeValueType chunks = runs.size() < SmallIsoComponentRunLabeling::MinimumRunsToShare
                                  ? 1
-                                 : std::min<SizeValueType>(runs.size(), 8 * this->GetNumberOfWorkUnits());
+                                 : std::min<SizeValueType>(runs.size(), 32 * this->GetNumberOfWorkUnits());
   const auto forEachChunk = [this, &labeling, chunks](auto && function) {
     labeling.Parallelize(this->GetMultiThreader(), chunks, function);
   };
@@ -637,7 +637,12 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
   using namespace SmallIsoComponentDetail;
-  const InputImageType * input = this->GetInput();
+  // The parallel steps below are short: one team of threads takes them all, instead of
+  // waking the threader's pool for each. It is formed first, so that its helpers wake up
+  // while the outputs are allocated.
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  SmallIsoComponentWorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
+  const InputImageType *    input = this->GetInput();
   this->AllocateOutputs();
   OutputImageType * output = this->GetOutput();
   MaskImageType *   mask = this->GetRemovedMask();
@@ -675,10 +680,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   m_NumberOfUnrepairableVoxels = 0;
   m_PeakExtraMemoryInBytes = 0;
 
-  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  // The parallel steps below are short: one team of threads takes them all, instead of
-  // waking the threader's pool for each.
-  SmallIsoComponentWorkTeam    team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
   SmallIsoComponentRunLabeling labeling;
   labeling.SetWorkTeam(&team);
   std::vector<SizeValueType>   extent(region.GetSize().begin(), region.GetSize().end());
