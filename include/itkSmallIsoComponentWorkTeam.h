@@ -56,8 +56,8 @@ namespace itk
 class SmallIsoComponent_EXPORT SmallIsoComponentWorkTeam
 {
 public:
-  /** A team for \a workUnits work units of \a threader: workUnits - 1 helpers at most
-   * (fewer if the pool has fewer threads). */
+  /** A team for \a workUnits work units of \a threader: workUnits - 1 helpers at most,
+   * fewer if the pool has fewer threads or the machine fewer other cores. */
   SmallIsoComponentWorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
   /** Dismisses the helpers and waits for the ones that started to leave. */
   ~SmallIsoComponentWorkTeam();

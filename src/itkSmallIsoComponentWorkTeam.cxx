@@ -178,7 +178,13 @@ SmallIsoComponentWorkTeam::SmallIsoComponentWorkTeam(MultiThreaderBase * threade
     return;
   }
   ThreadPool * pool = ThreadPool::GetInstance();
+  // Helpers wait by spinning for a while: no more of them than the other cores.
+  const unsigned int cores = std::thread::hardware_concurrency();
   m_NumberOfHelpers = std::min<unsigned int>(workUnits - 1, std::max<unsigned int>(1, pool->GetMaximumNumberOfThreads()));
+  if (cores > 1)
+  {
+    m_NumberOfHelpers = std::min(m_NumberOfHelpers, cores - 1);
+  }
   m_NumberOfWorkUnits = m_NumberOfHelpers + 1;
   m_State = std::make_shared<State>();
   for (unsigned int helper = 0; helper < m_NumberOfHelpers; ++helper)

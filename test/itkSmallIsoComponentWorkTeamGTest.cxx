@@ -90,6 +90,11 @@ TEST(SmallIsoComponentWorkTeam, EveryItemOnceForAnyNumberOfWorkUnits)
     Team team(threader, workUnits);
     EXPECT_EQ(team.GetNumberOfHelpers() + 1, team.GetNumberOfWorkUnits());
     EXPECT_LE(team.GetNumberOfWorkUnits(), workUnits);
+    const unsigned int cores = std::thread::hardware_concurrency();
+    if (cores > 1)
+    {
+      EXPECT_LE(team.GetNumberOfHelpers(), cores - 1) << "more spinning helpers than other cores";
+    }
     if (workUnits > 1)
     {
       EXPECT_GE(team.GetNumberOfHelpers(), 1u);
