@@ -92,6 +92,14 @@ namespace itk
  * components it touches. Only the removed voxels are visited again for the repair.
  * Output and statistics do not depend on the number of threads or work units.
  *
+ * Threads: with a PoolMultiThreader (ITK's default) and more than one work unit, an
+ * update asks ITK's thread pool once for its helper threads (SmallIsoComponentWorkTeam,
+ * at most one per other core) and hands them all its parallel steps, instead of waking
+ * the pool for each; between steps they wait for up to a millisecond by spinning, then
+ * sleep. Progress and abort events stay on the calling thread. Other threaders get each
+ * step through ParallelizeArray(). Large images of one pixel type (output and mask of
+ * 4 MiB or more) are written with streaming stores while the components are numbered.
+ *
  * Memory beyond input, output and mask: 8 bytes per scanline run (a run is a maximal
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
