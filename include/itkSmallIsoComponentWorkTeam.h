@@ -23,6 +23,7 @@
 #include "SmallIsoComponentExport.h"
 
 #include <memory>
+#include <type_traits>
 #include <utility>
 
 namespace itk
@@ -98,7 +99,7 @@ public:
       }
       return;
     }
-    using FunctionType = std::remove_reference_t<TFunction>;
+    using FunctionType = typename std::remove_reference<TFunction>::type;
     this->Run(
       items,
       [](void * context, SizeValueType item) { (*static_cast<FunctionType *>(context))(item); },
