@@ -685,7 +685,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   std::vector<SizeValueType>   extent(region.GetSize().begin(), region.GetSize().end());
   labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
 
-  // Phase 1: copy to the output and encode each line as runs of the two sides.
+  // Phase 1: encode each line as runs of the two sides, copying it to the output and
+  // clearing its mask line first (large images of one pixel type leave that for phase 2).
   std::function<void(SizeValueType, SizeValueType)> fillLater;
   const bool fillingLater = this->EncodeRuns(labeling, input, output, mask, fillLater);
   this->CheckAbort(0.3f);
