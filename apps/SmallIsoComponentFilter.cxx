@@ -199,8 +199,9 @@ DescribeTool()
 #endif
   Option threads{ "--threads",
                   "N",
-                  "Number of threads (ITK work units) to use; 0 uses ITK's default (the number of cores, or "
-                  "ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not depend on it.",
+                  "Number of ITK work units to use (the filter runs at most one thread per core); 0 uses ITK's "
+                  "default (the number of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not "
+                  "depend on it.",
                   "0",
                   parameter("integer", "threads", "Threads", "Advanced") };
   threads.Slicer.Minimum = "0";
