@@ -453,9 +453,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
 
   // New values are computed, in chunks of runs, before any is written: walks read the
   // values before the pass.
-  // A few removed runs are repaired by the calling thread alone: handing them to the
-  // pool costs more than it saves.
-  const SizeValueType chunks = runs.size() < SmallIsoComponentRunLabeling::MinimumRunsToShare
+  // A few removed runs are repaired by the calling thread alone: handing them to other
+  // threads costs more than it saves.
+  const SizeValueType chunks = runs.size() < labeling.GetMinimumRunsToShare()
                                  ? 1
                                  : std::min<SizeValueType>(runs.size(), 32 * this->GetNumberOfWorkUnits());
   const auto forEachChunk = [this, &labeling, chunks](auto && function) {

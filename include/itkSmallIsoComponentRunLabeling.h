@@ -76,6 +76,16 @@ public:
   /** Fewer runs than this (to repair, to group) are handled by the calling thread alone:
    * waking the threader's pool for them costs more than it saves. */
   static constexpr SizeValueType MinimumRunsToShare = 2048;
+  /** The same when a work team with helpers takes the loops: they are awake already. */
+  static constexpr SizeValueType MinimumRunsToShareInTeam = 256;
+
+  /** MinimumRunsToShareInTeam with a work team that has helpers, else MinimumRunsToShare. */
+  SizeValueType
+  GetMinimumRunsToShare() const
+  {
+    return m_WorkTeam != nullptr && m_WorkTeam->GetNumberOfHelpers() > 0 ? MinimumRunsToShareInTeam
+                                                                          : MinimumRunsToShare;
+  }
 
   /** Calls function(item) once for every item in [0, items), on the threader's work units,
    * each taking the next unhandled item when it is free: a work unit that starts late (a
