@@ -79,6 +79,65 @@ PoolThreader(unsigned int workUnits)
   threader->SetNumberOfWorkUnits(workUnits);
   return threader;
 }
+
+/** Holds every thread of ITK's pool with a waiting task until Release() (or the end of
+ * its life), so that helpers asked for meanwhile cannot start. */
+class PoolHold
+{
+public:
+  PoolHold()
+    : m_Released(m_Release.get_future().share())
+  {
+    itk::ThreadPool * pool = itk::ThreadPool::GetInstance();
+    m_Threads = pool->GetMaximumNumberOfThreads();
+    for (unsigned int t = 0; t < m_Threads; ++t)
+    {
+      m_Holders.push_back(pool->AddWork([this] {
+        ++m_Holding;
+        m_Released.wait();
+      }));
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!this->HoldsAll() && std::chrono::steady_clock::now() < deadline)
+    {
+      std::this_thread::yield();
+    }
+  }
+  ~PoolHold() { this->Release(); }
+  PoolHold(const PoolHold &) = delete;
+  PoolHold &
+  operator=(const PoolHold &) = delete;
+
+  /** Whether every pool thread is held (within a minute of the start). */
+  bool
+  HoldsAll() const
+  {
+    return m_Holding.load() == m_Threads;
+  }
+
+  /** Frees the pool's threads and waits for the holding tasks to end. */
+  void
+  Release()
+  {
+    if (m_Holders.empty())
+    {
+      return;
+    }
+    m_Release.set_value();
+    for (auto & holder : m_Holders)
+    {
+      holder.get();
+    }
+    m_Holders.clear();
+  }
+
+private:
+  std::promise<void>             m_Release;
+  std::shared_future<void>       m_Released;
+  std::atomic<unsigned int>      m_Holding{ 0 };
+  unsigned int                   m_Threads{ 0 };
+  std::vector<std::future<void>> m_Holders;
+};
 } // namespace
 
 TEST(SmallIsoComponentWorkTeam, EveryItemOnceForAnyNumberOfWorkUnits)
@@ -168,26 +227,9 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
 {
   // Every pool thread is held by a task until the team has ended: its helpers cannot
   // start, so the calling thread does every item, then they start late and leave.
-  itk::ThreadPool * pool = itk::ThreadPool::GetInstance();
-  auto              threader = PoolThreader(2);
-  const unsigned int poolThreads = pool->GetMaximumNumberOfThreads();
-  std::promise<void> release;
-  std::shared_future<void> released = release.get_future().share();
-  std::atomic<unsigned int> holding{ 0 };
-  std::vector<std::future<void>> holders;
-  for (unsigned int t = 0; t < poolThreads; ++t)
-  {
-    holders.push_back(pool->AddWork([released, &holding] {
-      ++holding;
-      released.wait();
-    }));
-  }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (holding.load() < poolThreads && std::chrono::steady_clock::now() < deadline)
-  {
-    std::this_thread::yield();
-  }
-  ASSERT_EQ(holding.load(), poolThreads);
+  auto     threader = PoolThreader(2);
+  PoolHold hold;
+  ASSERT_TRUE(hold.HoldsAll());
   std::set<std::thread::id> threads;
   {
     Team team(threader, 2);
@@ -212,11 +254,7 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
   }
   EXPECT_EQ(threads.size(), 1u);
   EXPECT_EQ(*threads.begin(), std::this_thread::get_id());
-  release.set_value();
-  for (auto & holder : holders)
-  {
-    holder.get();
-  }
+  hold.Release();
   // The late helpers found the team gone and left; a new team gets helpers again.
   auto threader2 = PoolThreader(2);
   Team team(threader2, 2);
@@ -228,24 +266,9 @@ TEST(SmallIsoComponentWorkTeam, HelperLateForTheFirstLoopStaysOut)
 {
   // The pool's threads are held through the team's first loop, then freed: the helper
   // that starts afterwards must not join the second loop.
-  auto                           threader = PoolThreader(2);
-  itk::ThreadPool *              pool = itk::ThreadPool::GetInstance();
-  const unsigned int             poolThreads = pool->GetMaximumNumberOfThreads();
-  std::promise<void>             release;
-  std::shared_future<void>       released = release.get_future().share();
-  std::atomic<unsigned int>      holding{ 0 };
-  std::vector<std::future<void>> holders;
-  for (unsigned int t = 0; t < poolThreads; ++t)
-  {
-    holders.push_back(pool->AddWork([released, &holding] {
-      ++holding;
-      released.wait();
-    }));
-  }
-  while (holding.load() < poolThreads)
-  {
-    std::this_thread::yield();
-  }
+  auto     threader = PoolThreader(2);
+  PoolHold hold;
+  ASSERT_TRUE(hold.HoldsAll());
   Team team(threader, 2);
   ASSERT_EQ(team.GetNumberOfHelpers(), 1u);
   std::set<std::thread::id> threads;
@@ -255,11 +278,7 @@ TEST(SmallIsoComponentWorkTeam, HelperLateForTheFirstLoopStaysOut)
     threads.insert(std::this_thread::get_id());
   };
   team.ForEach(100, record);
-  release.set_value();
-  for (auto & holder : holders)
-  {
-    holder.get();
-  }
+  hold.Release();
   // The pool is free now: a helper that joined would take items of this slow loop.
   team.ForEach(50, [&](itk::SizeValueType item) {
     record(item);
