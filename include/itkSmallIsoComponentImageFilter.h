@@ -246,16 +246,14 @@ private:
   StatisticsOf(SideEnum side) const;
 
   /** Copies each line of the input to the output, clears its mask line, and encodes it
-   * as runs. Large images of one pixel type are only encoded here: the copy and the
-   * clearing are left to \a fillLater(first, end), for lines [first, end), and true is
-   * returned. */
-  template <typename TFillLater>
-  bool
+   * as runs, and returns an empty function. Large images of one pixel type are only
+   * encoded here: the copy and the clearing are left to the function returned, to be
+   * called as fill(first, end) for every range [first, end) of lines. */
+  std::function<void(SizeValueType, SizeValueType)>
   EncodeRuns(SmallIsoComponentRunLabeling & labeling,
              const InputImageType *         input,
              OutputImageType *              output,
-             MaskImageType *                mask,
-             TFillLater &                   fillLater);
+             MaskImageType *                mask);
 
   /** Gives every voxel of \a runs (the runs of the components selected by
    * \a removedComponent, as SmallIsoComponentRunLabeling::CollectRuns() gives them) a

@@ -339,13 +339,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CheckAbort(float progre
 }
 
 template <typename TInputImage, typename TOutputImage>
-template <typename TFillLater>
-bool
+std::function<void(SizeValueType, SizeValueType)>
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentRunLabeling & labeling,
                                                                    const InputImageType *         input,
                                                                    OutputImageType *              output,
-                                                                   MaskImageType *                mask,
-                                                                   TFillLater &                   fillLater)
+                                                                   MaskImageType *                mask)
 {
   MaskPixelType *        maskBuffer = mask->GetBufferPointer();
   const InputPixelType * inBuffer = input->GetBufferPointer();
@@ -367,7 +365,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
       // with streaming stores, while the components are numbered (a serial step that
       // leaves the other work units free).
       threshold.Encode(inBuffer, labeling, this->GetMultiThreader(), [](SizeValueType, SizeValueType) {});
-      fillLater = [=](SizeValueType first, SizeValueType end) {
+      return [=](SizeValueType first, SizeValueType end) {
         if (copy)
         {
           SmallIsoComponentDetail::StreamCopy(
@@ -376,7 +374,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, (end - first) * length * sizeof(MaskPixelType));
         SmallIsoComponentDetail::StreamFence();
       };
-      return true;
     }
   }
   threshold.Encode(
@@ -413,7 +410,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         SmallIsoComponentDetail::StreamFence();
       }
     });
-  return false;
+  return nullptr;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -687,8 +684,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // Phase 1: encode each line as runs of the two sides, copying it to the output and
   // clearing its mask line first (large images of one pixel type leave that for phase 2).
-  std::function<void(SizeValueType, SizeValueType)> fillLater;
-  const bool fillingLater = this->EncodeRuns(labeling, input, output, mask, fillLater);
+  const std::function<void(SizeValueType, SizeValueType)> fillLater = this->EncodeRuns(labeling, input, output, mask);
   this->CheckAbort(0.3f);
   labeling.AssembleRuns(this->GetMultiThreader());
   m_PeakExtraMemoryInBytes = labeling.GetPeakMemoryInBytes();
@@ -701,7 +697,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     labeling.LinkRuns(this->GetMultiThreader());
     labeling.LabelComponents(K);
   };
-  if (fillingLater)
+  if (fillLater)
   {
     // Item 0 is the serial linking and numbering; the other work units meanwhile write
     // the output and the mask, block by block (the one that numbers joins them after).
@@ -789,8 +785,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // as this pass's repair, so it is done in the repair's loop.
   const bool                                         aboveWasRemoved =
     m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
-  const std::vector<SmallIsoComponentRunLabeling::LineRun> noRuns;
-  SmallIsoComponentRunLabeling::FlipGrouping grouping(labeling, aboveWasRemoved ? removedAboveRuns : noRuns);
+  SmallIsoComponentRunLabeling::FlipGrouping grouping(labeling, removedAboveRuns);
   const SizeValueType                        groupingBytes = grouping.GetScratchBytes();
   std::function<void(SizeValueType, SizeValueType)> joinFlipped;
   if (aboveWasRemoved)
