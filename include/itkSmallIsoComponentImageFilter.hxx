@@ -452,9 +452,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   // values before the pass.
   // A few removed runs are repaired by the calling thread alone: handing them to other
   // threads costs more than it saves.
-  const SizeValueType chunks = runs.size() < labeling.GetMinimumRunsToShare()
-                                 ? 1
-                                 : std::min<SizeValueType>(runs.size(), 32 * this->GetNumberOfWorkUnits());
+  const SizeValueType chunks = labeling.GetNumberOfChunks(runs.size(), this->GetMultiThreader());
   const auto forEachChunk = [this, &labeling, chunks](auto && function) {
     labeling.Parallelize(this->GetMultiThreader(), chunks, function);
   };

@@ -125,6 +125,20 @@ public:
     m_WorkTeam = team;
   }
 
+  /** Chunks of removed or flipped runs per work unit, when the runs are shared. */
+  static constexpr SizeValueType ChunksPerWorkUnit = 32;
+
+  /** How many chunks a loop over \a runs runs is cut into: one below
+   * GetMinimumRunsToShare(), else ChunksPerWorkUnit per work unit (at most one per run). */
+  SizeValueType
+  GetNumberOfChunks(SizeValueType runs, MultiThreaderBase * threader) const
+  {
+    return runs < this->GetMinimumRunsToShare()
+             ? 1
+             : std::min<SizeValueType>(runs,
+                                       ChunksPerWorkUnit * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
+  }
+
   /** The work units a loop is shared among: the team's, or else the threader's. */
   SizeValueType
   GetNumberOfWorkUnits(MultiThreaderBase * threader) const

@@ -523,10 +523,7 @@ SmallIsoComponentRunLabeling::GroupAfterFlip(const std::vector<uint8_t> &      f
 {
   FlipGrouping grouping(*this, flippedRuns);
   // Chunks taken as the work units become free; a few runs stay on the calling thread.
-  const SizeValueType chunks =
-    flippedRuns.size() < this->GetMinimumRunsToShare()
-      ? 1
-      : std::min<SizeValueType>(flippedRuns.size(), 8 * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
+  const SizeValueType chunks = this->GetNumberOfChunks(flippedRuns.size(), threader);
   this->Parallelize(threader, chunks, [&](SizeValueType chunk) {
     grouping.JoinNeighbors(chunk * flippedRuns.size() / chunks, (chunk + 1) * flippedRuns.size() / chunks);
   });
