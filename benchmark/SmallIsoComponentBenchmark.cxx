@@ -77,6 +77,21 @@ TimeMs(F && work)
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/** Runs \a work once untimed, then times a second run; \a prepare (untimed) comes before
+ * each. Every peer is thus timed right after a run of itself at the same thread count, never
+ * after a different peer: on a virtual machine a core left idle by a long single-threaded
+ * peer often comes back late (the next peer's second thread then starts a millisecond or
+ * more after the first), which would weigh on whichever peer happened to come next. */
+template <typename P, typename F>
+double
+TimeAfterWarmUp(P && prepare, F && work)
+{
+  prepare();
+  work();
+  prepare();
+  return TimeMs(work);
+}
+
 /** A deterministic 64-bit generator (splitmix64), so volumes are the same everywhere. */
 struct SplitMix
 {
@@ -330,22 +345,22 @@ public:
       for (const unsigned int threads : threadCounts)
       {
         itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(threads);
-        smallIso[threads]->Modified();
-        times[{ "smalliso", threads }].push_back(TimeMs([&] { smallIso[threads]->Update(); }));
+        times[{ "smalliso", threads }].push_back(TimeAfterWarmUp([&] { smallIso[threads]->Modified(); },
+                                                                 [&] { smallIso[threads]->Update(); }));
         extra[{ "smalliso", threads }] = smallIso[threads]->GetPeakExtraMemoryInBytes();
 
-        threshold[threads]->Modified();
-        times[{ "itk-cc-relabel", threads }].push_back(TimeMs([&] { relabel[threads]->Update(); }));
+        times[{ "itk-cc-relabel", threads }].push_back(TimeAfterWarmUp([&] { threshold[threads]->Modified(); },
+                                                                       [&] { relabel[threads]->Update(); }));
         extra[{ "itk-cc-relabel", threads }] = voxels * (sizeof(uint8_t) + 2 * sizeof(uint32_t));
       }
 
-      std::copy(input->GetBufferPointer(), input->GetBufferPointer() + voxels, voxelUnionFindOutput.begin());
-      times[{ "voxel-union-find", 1 }].push_back(
-        TimeMs([&] { peer.Run(voxelUnionFindOutput.data(), size, isoValue, MaximumSize); }));
+      times[{ "voxel-union-find", 1 }].push_back(TimeAfterWarmUp(
+        [&] { std::copy(input->GetBufferPointer(), input->GetBufferPointer() + voxels, voxelUnionFindOutput.begin()); },
+        [&] { peer.Run(voxelUnionFindOutput.data(), size, isoValue, MaximumSize); }));
       extra[{ "voxel-union-find", 1 }] = peer.ExtraBytes();
 
-      times[{ "memcpy", 1 }].push_back(
-        TimeMs([&] { std::memcpy(copy->GetBufferPointer(), input->GetBufferPointer(), voxels * sizeof(T)); }));
+      times[{ "memcpy", 1 }].push_back(TimeAfterWarmUp(
+        [] {}, [&] { std::memcpy(copy->GetBufferPointer(), input->GetBufferPointer(), voxels * sizeof(T)); }));
       extra[{ "memcpy", 1 }] = 0;
     }
     const unsigned int                   most = threadCounts.back();
@@ -478,7 +493,8 @@ Usage(std::ostream & os, int status)
   os << "Usage: SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [DATA_DIR]\n"
         "Times smalliso (Side Both, K = 20, face connectivity) against itk-cc-relabel, voxel-union-find\n"
         "and memcpy on every volume of DATA_DIR (default ../shared/data, if present) and on synthetic\n"
-        "volumes, and prints medians and ratios. --only aneurism,lobster measures only the volumes named\n"
+        "volumes, and prints medians and ratios. Each timed run follows an untimed run of the same peer.\n"
+        "--only aneurism,lobster measures only the volumes named\n"
         "(real or synthetic, as the table names them). --small uses two small synthetic volumes only (a smoke test).\n"
         "Exit status 1 if smalliso and voxel-union-find disagree, 2 on bad arguments.\n";
   return status;

@@ -178,8 +178,9 @@ SmallIsoComponentWorkTeam::SmallIsoComponentWorkTeam(MultiThreaderBase * threade
     return;
   }
   ThreadPool * pool = ThreadPool::GetInstance();
-  // Helpers wait by spinning for a while: no more of them than the other cores.
-  const unsigned int cores = std::thread::hardware_concurrency();
+  // Helpers wait by spinning for a while: no more of them than the other cores. (Asked
+  // once: the C++ library reads it from the system, tens of microseconds per call here.)
+  static const unsigned int cores = std::thread::hardware_concurrency();
   m_NumberOfHelpers = std::min<unsigned int>(workUnits - 1, std::max<unsigned int>(1, pool->GetMaximumNumberOfThreads()));
   if (cores > 1)
   {
