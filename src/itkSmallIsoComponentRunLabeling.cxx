@@ -638,14 +638,13 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
       holder = holder[half] <= from ? holder + half : holder;
       n -= half;
     }
+    // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
+    // every other run from the holder if it is below, else from the run after it.
     SizeValueType k = static_cast<SizeValueType>(holder - runStart);
-    bool above = (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0);
-    for (; k < otherEnd && runStart[k] < to; ++k, above = !above)
+    k += (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0) ? 1 : 0;
+    for (; k < otherEnd && runStart[k] < to; k += 2)
     {
-      if (!above)
-      {
-        add(component, label[k]);
-      }
+      add(component, label[k]);
     }
   };
   const bool          faceConnected3D = !l.m_FullyConnected && l.m_Size.size() == 3;
