@@ -493,9 +493,9 @@ Usage(std::ostream & os, int status)
   os << "Usage: SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [DATA_DIR]\n"
         "Times smalliso (Side Both, K = 20, face connectivity) against itk-cc-relabel, voxel-union-find\n"
         "and memcpy on every volume of DATA_DIR (default ../shared/data, if present) and on synthetic\n"
-        "volumes, and prints medians and ratios. Each timed run follows an untimed run of the same peer.\n"
-        "--only aneurism,lobster measures only the volumes named\n"
-        "(real or synthetic, as the table names them). --small uses two small synthetic volumes only (a smoke test).\n"
+        "volumes, and prints medians and ratios. Each timed run follows an untimed run of the same\n"
+        "peer at the same thread count. --only aneurism,lobster measures only the volumes named (real\n"
+        "or synthetic, as the table names them). --small uses two small synthetic volumes only (a smoke test).\n"
         "Exit status 1 if smalliso and voxel-union-find disagree, 2 on bad arguments.\n";
   return status;
 }
