@@ -71,6 +71,29 @@ CheckEveryItemOnce(Team & team, unsigned int loops, std::mt19937 & random)
   }
 }
 
+/** The threads that ran an item, recorded from any of them. */
+class ThreadsSeen
+{
+public:
+  void
+  Record()
+  {
+    const std::lock_guard<std::mutex> lock(m_Mutex);
+    m_Threads.insert(std::this_thread::get_id());
+  }
+
+  /** Read once the loops have ended. */
+  const std::set<std::thread::id> &
+  Get() const
+  {
+    return m_Threads;
+  }
+
+private:
+  std::mutex                m_Mutex;
+  std::set<std::thread::id> m_Threads;
+};
+
 itk::PoolMultiThreader::Pointer
 PoolThreader(unsigned int workUnits)
 {
@@ -170,13 +193,9 @@ TEST(SmallIsoComponentWorkTeam, HelpersTakePart)
   // Item 0 waits until another item runs on another thread: that can only be a helper.
   const std::thread::id   caller = std::this_thread::get_id();
   std::atomic<bool>       helperSeen{ false };
-  std::mutex              mutex;
-  std::set<std::thread::id> threads;
+  ThreadsSeen             threads;
   team.ForEach(64, [&](itk::SizeValueType item) {
-    {
-      const std::lock_guard<std::mutex> lock(mutex);
-      threads.insert(std::this_thread::get_id());
-    }
+    threads.Record();
     if (std::this_thread::get_id() != caller)
     {
       helperSeen = true;
@@ -188,7 +207,7 @@ TEST(SmallIsoComponentWorkTeam, HelpersTakePart)
     }
   });
   EXPECT_TRUE(helperSeen.load()) << "no item ran on a helper within 10 s";
-  EXPECT_EQ(threads.size(), 2u);
+  EXPECT_EQ(threads.Get().size(), 2u);
 }
 
 TEST(SmallIsoComponentWorkTeam, ExceptionAfterTheItemsInProgressEnd)
@@ -230,10 +249,9 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
   auto     threader = PoolThreader(2);
   PoolHold hold;
   ASSERT_TRUE(hold.HoldsAll());
-  std::set<std::thread::id> threads;
+  ThreadsSeen threads;
   {
     Team team(threader, 2);
-    std::mutex mutex;
     for (unsigned int loop = 0; loop < 20; ++loop)
     {
       std::vector<std::atomic<unsigned int>> visits(500);
@@ -243,8 +261,7 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
       }
       team.ForEach(visits.size(), [&](itk::SizeValueType item) {
         ++visits[item];
-        const std::lock_guard<std::mutex> lock(mutex);
-        threads.insert(std::this_thread::get_id());
+        threads.Record();
       });
       for (const auto & v : visits)
       {
@@ -252,8 +269,8 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
       }
     }
   }
-  EXPECT_EQ(threads.size(), 1u);
-  EXPECT_EQ(*threads.begin(), std::this_thread::get_id());
+  EXPECT_EQ(threads.Get().size(), 1u);
+  EXPECT_EQ(*threads.Get().begin(), std::this_thread::get_id());
   hold.Release();
   // The late helpers found the team gone and left; a new team gets helpers again.
   auto threader2 = PoolThreader(2);
@@ -271,20 +288,15 @@ TEST(SmallIsoComponentWorkTeam, HelperLateForTheFirstLoopStaysOut)
   ASSERT_TRUE(hold.HoldsAll());
   Team team(threader, 2);
   ASSERT_EQ(team.GetNumberOfHelpers(), 1u);
-  std::set<std::thread::id> threads;
-  std::mutex                mutex;
-  const auto                record = [&](itk::SizeValueType) {
-    const std::lock_guard<std::mutex> lock(mutex);
-    threads.insert(std::this_thread::get_id());
-  };
-  team.ForEach(100, record);
+  ThreadsSeen threads;
+  team.ForEach(100, [&](itk::SizeValueType) { threads.Record(); });
   hold.Release();
   // The pool is free now: a helper that joined would take items of this slow loop.
-  team.ForEach(50, [&](itk::SizeValueType item) {
-    record(item);
+  team.ForEach(50, [&](itk::SizeValueType) {
+    threads.Record();
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   });
-  EXPECT_EQ(threads.size(), 1u) << "a helper that started after the first loop took items";
+  EXPECT_EQ(threads.Get().size(), 1u) << "a helper that started after the first loop took items";
 }
 
 TEST(SmallIsoComponentWorkTeam, OtherThreadersTakeTheLoops)
