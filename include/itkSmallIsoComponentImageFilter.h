@@ -256,7 +256,7 @@ private:
              MaskImageType *                mask);
 
   /** Gives every voxel of \a runs (the runs of the components selected by
-   * \a removedComponent, as SmallIsoComponentRunLabeling::CollectRuns() gives them) a
+   * \a removedComponent, as SmallIsoComponentRunLabeling::CollectCandidateRuns() gives them) a
    * value on the other side, marks it in the mask with \a maskValue, and returns the
    * number of voxels changed. The values are read from \a source if given (a buffer
    * that holds the output's values), else from the output. \a alongside, if given, is

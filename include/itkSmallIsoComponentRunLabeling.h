@@ -60,7 +60,7 @@ public:
   using ComponentIndexType = uint32_t;
   using CoordinateType = uint32_t;
 
-  /** Marks a component that belongs to no group in GroupAfterFlip(). */
+  /** Marks a component that belongs to no group in FlipGrouping::Finish(). */
   static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
@@ -285,18 +285,6 @@ public:
     return m_ComponentAbove[component] != 0;
   }
 
-  /** The below components after the above components flagged in \a flipped (one flag
-   * per component) have been moved below the isovalue: each flipped component joins
-   * the below components it touches, and through them other ones. On return,
-   * groupOfComponent holds the group of every below or flipped component (NoGroup for
-   * the other above components), numbered in order of their first run, and groupSize
-   * the number of voxels in each group. No voxel is read: only the runs. */
-  void
-  GroupAfterFlip(const std::vector<uint8_t> &      flipped,
-                 std::vector<ComponentIndexType> & groupOfComponent,
-                 std::vector<SizeValueType> &      groupSize,
-                 MultiThreaderBase *               threader) const;
-
   /** A run and its line (lines are fewer than runs, so both fit the run index type). */
   struct LineRun
   {
@@ -304,20 +292,14 @@ public:
     RunIndexType Line;
   };
 
-  /** The same, given the runs of the flipped components in run order (as CollectRuns()
-   * returns them), so that no run of the other components is visited. The neighbours of
-   * the flipped runs are looked up and joined in parallel (a lock-free union-find over
-   * components); scratchBytes, if given, receives the bytes it held. */
-  void
-  GroupAfterFlip(const std::vector<uint8_t> &      flipped,
-                 const std::vector<LineRun> &      flippedRuns,
-                 std::vector<ComponentIndexType> & groupOfComponent,
-                 std::vector<SizeValueType> &      groupSize,
-                 MultiThreaderBase *               threader,
-                 SizeValueType *                   scratchBytes = nullptr) const;
-  /** GroupAfterFlip() in steps, so that the joins can share a loop with other work on
-   * the same runs: JoinNeighbors() for every range of the flipped runs (concurrently if
-   * wanted), then Finish(). The labeling and the runs must outlive it. */
+  /** The below components after the above components flagged as flipped (one flag per
+   * component) have been moved below the isovalue: each flipped component joins the
+   * below components it touches, and through them other ones. Given the runs of the
+   * flipped components in run order (no run of the other components is visited; no
+   * voxel is read), JoinNeighbors() is called for every range of them (concurrently if
+   * wanted, through a lock-free union-find over components), so that the joins can share
+   * a loop with other work on the same runs; then Finish() numbers the groups. The
+   * labeling and the runs must outlive it. */
   class SmallIsoComponent_EXPORT FlipGrouping
   {
   public:
@@ -332,8 +314,10 @@ public:
     void
     JoinNeighbors(SizeValueType first, SizeValueType last);
 
-    /** After every flipped run has been joined: the groups, as GroupAfterFlip() gives
-     * them. */
+    /** After every flipped run has been joined: groupOfComponent holds the group of
+     * every below or flipped component (NoGroup for the other above components),
+     * numbered in order of their first run, and groupSize the number of voxels in each
+     * group. */
     void
     Finish(const std::vector<uint8_t> &      flipped,
            std::vector<ComponentIndexType> & groupOfComponent,
@@ -353,11 +337,6 @@ public:
     const std::vector<LineRun> &                       m_FlippedRuns;
     std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
   };
-
-  /** The runs whose component is flagged in \a selected (one flag per component), in
-   * run order; the slabs are scanned in parallel. */
-  std::vector<LineRun>
-  CollectRuns(const std::vector<uint8_t> & selected, MultiThreaderBase * threader) const;
 
   /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
    * flagged in \a selected, in run order: every run of the selected components if they
