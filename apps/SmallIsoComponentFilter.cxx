@@ -239,22 +239,21 @@ DescribeTool()
     { "--help", "", "Print this help and exit (also -h).", "", {} },
   };
 
-  tool.Epilogue =
-    "While it works, the tool shows progress on stderr (a bar on a terminal, a line per\n"
-    "stage otherwise), then prints a one-paragraph summary on stdout. The output image,\n"
-    "the mask and the statistics appear together, once all of them were written; after\n"
-    "a failure none of them is written or changed.\n"
-    "\n"
-    "Exit status:\n"
-    "  0  success\n"
-    "  1  the processing failed (e.g. out of memory)\n"
-    "  2  a wrong command line, an unreadable or unsupported input, or an output that\n"
-    "     cannot be written; one line on stderr says what was wrong and what was expected\n"
-    "\n"
-    "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a\n"
-    "mask of the changed voxels and the statistics:\n"
-    "  SmallIsoComponentFilter ct.nrrd ct-clean.nrrd --isovalue 150 --max-size 20 \\\n"
-    "      --removed-mask removed.nrrd --stats stats.json\n";
+  tool.Epilogue = "While it works, the tool shows progress on stderr (a bar on a terminal, a line per\n"
+                  "stage otherwise), then prints a one-paragraph summary on stdout. The output image,\n"
+                  "the mask and the statistics appear together, once all of them were written; after\n"
+                  "a failure none of them is written or changed.\n"
+                  "\n"
+                  "Exit status:\n"
+                  "  0  success\n"
+                  "  1  the processing failed (e.g. out of memory)\n"
+                  "  2  a wrong command line, an unreadable or unsupported input, or an output that\n"
+                  "     cannot be written; one line on stderr says what was wrong and what was expected\n"
+                  "\n"
+                  "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a\n"
+                  "mask of the changed voxels and the statistics:\n"
+                  "  SmallIsoComponentFilter ct.nrrd ct-clean.nrrd --isovalue 150 --max-size 20 \\\n"
+                  "      --removed-mask removed.nrrd --stats stats.json\n";
 
   tool.Category = "Surface Models";
   tool.Title = "Small Iso Component Filter";
@@ -369,15 +368,15 @@ struct StagedPaths
  * triangles are known, then moved to physical coordinates and written or rendered. */
 template <typename TImage, typename TFilter>
 void
-WriteSurfaces(const sic::FilterSettings &         settings,
-              const StagedPaths &                 staged,
-              vtkSmartPointer<vtkPolyData>        before,
-              TFilter &                           filter,
-              sic::ProgressReporter &             progress,
-              sic::FilterReport &                 report)
+WriteSurfaces(const sic::FilterSettings &  settings,
+              const StagedPaths &          staged,
+              vtkSmartPointer<vtkPolyData> before,
+              TFilter &                    filter,
+              sic::ProgressReporter &      progress,
+              sic::FilterReport &          report)
 {
-  const TImage *            output = filter.GetOutput();
-  const sic::SurfaceGeometry geometry = sic::SurfaceGeometryOf(*output);
+  const TImage *               output = filter.GetOutput();
+  const sic::SurfaceGeometry   geometry = sic::SurfaceGeometryOf(*output);
   vtkSmartPointer<vtkPolyData> after;
   if (!settings.Surface.empty() || !settings.Render.empty())
   {
@@ -421,9 +420,7 @@ WriteSurfaces(const sic::FilterSettings &         settings,
   if (!settings.Render.empty())
   {
     progress.Stage("rendering " + settings.Render, 0.92, 0.95);
-    const auto pieces = [](std::uint64_t count) {
-      return std::to_string(count) + (count == 1 ? " piece" : " pieces");
-    };
+    const auto pieces = [](std::uint64_t count) { return std::to_string(count) + (count == 1 ? " piece" : " pieces"); };
     sic::RenderScene scene;
     scene.Before = before;
     scene.After = after;
@@ -520,7 +517,7 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
 int
 Run(const sic::FilterSettings & settings)
 {
-  const auto start = std::chrono::steady_clock::now();
+  const auto                 start = std::chrono::steady_clock::now();
   const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(settings.Input, "input");
 
   // Every output is checked, and its staging place made, before the work starts.
@@ -539,8 +536,8 @@ Run(const sic::FilterSettings & settings)
   const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
   if (surfaces && info.Dimension != 3)
   {
-    throw sic::ToolError("--surface, --surface-before and --render need a 3-D image and '" + settings.Input +
-                         "' is " + std::to_string(info.Dimension) + "-D; expected a volume");
+    throw sic::ToolError("--surface, --surface-before and --render need a 3-D image and '" + settings.Input + "' is " +
+                         std::to_string(info.Dimension) + "-D; expected a volume");
   }
   if (!settings.Surface.empty())
   {
@@ -601,7 +598,6 @@ int
 main(int argc, char * argv[])
 {
   const sic::ToolDescription tool = DescribeTool();
-  return sic::ToolMain(tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) {
-    return Run(ReadSettings(tool, arguments));
-  });
+  return sic::ToolMain(
+    tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) { return Run(ReadSettings(tool, arguments)); });
 }

@@ -103,7 +103,6 @@ int
 main(int argc, char * argv[])
 {
   const sic::ToolDescription tool = DescribeTool();
-  return sic::ToolMain(tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) {
-    return Run(tool, arguments);
-  });
+  return sic::ToolMain(
+    tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) { return Run(tool, arguments); });
 }

@@ -308,8 +308,8 @@ std::vector<sic::ReportRow>
 MeasureImage(const ReportSettings & settings, itk::MultiThreaderBase * threader)
 {
   using PixelType = typename TImage::PixelType;
-  const typename TImage::Pointer image = sic::ReadImage<TImage>(settings.Input, "input", nullptr);
-  const auto &                   extent = image->GetBufferedRegion().GetSize();
+  const typename TImage::Pointer        image = sic::ReadImage<TImage>(settings.Input, "input", nullptr);
+  const auto &                          extent = image->GetBufferedRegion().GetSize();
   const std::vector<itk::SizeValueType> size(extent.begin(), extent.end());
   const PixelType *                     buffer = image->GetBufferPointer();
 
@@ -386,7 +386,7 @@ Run(const ReportSettings & settings)
 
   if (!stagedPlot.empty())
   {
-    const auto plotSize = settings.PlotSize.value_or(report.MaximumSizes.back());
+    const auto   plotSize = settings.PlotSize.value_or(report.MaximumSizes.back());
     const size_t kIndex =
       std::lower_bound(report.MaximumSizes.begin(), report.MaximumSizes.end(), plotSize) - report.MaximumSizes.begin();
     const size_t rowIndex =
@@ -419,7 +419,6 @@ int
 main(int argc, char * argv[])
 {
   const sic::ToolDescription tool = DescribeTool();
-  return sic::ToolMain(tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) {
-    return Run(ReadSettings(tool, arguments));
-  });
+  return sic::ToolMain(
+    tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) { return Run(ReadSettings(tool, arguments)); });
 }

@@ -130,15 +130,15 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
       parsed.m_Options["--help"];
       continue;
     }
-    const size_t  equals = argument.find('=');
-    std::string   flag = argument.substr(0, equals);
+    const size_t   equals = argument.find('=');
+    std::string    flag = argument.substr(0, equals);
     const Option * option = flag.compare(0, 2, "--") == 0 ? FindOption(tool, NormalizeFlag(flag)) : nullptr;
     if (!option)
     {
       const bool numberLike = std::isdigit(static_cast<unsigned char>(argument[1])) || argument[1] == '.';
-      throw ToolError("unknown option " + Quoted(flag) + "; run '" + tool.Name + " --help' for the options" +
-                      (numberLike ? " (a value starting with '-' belongs after its option, e.g. --isovalue -500)"
-                                  : ""));
+      throw ToolError(
+        "unknown option " + Quoted(flag) + "; run '" + tool.Name + " --help' for the options" +
+        (numberLike ? " (a value starting with '-' belongs after its option, e.g. --isovalue -500)" : ""));
     }
     flag = option->Flag;
     const bool repeatable =
@@ -235,8 +235,9 @@ ParseNumber(const std::string & flag, const std::string & text)
 std::uint64_t
 ParseCount(const std::string & flag, const std::string & text)
 {
-  const bool digitsOnly =
-    !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  const bool digitsOnly = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
   if (!digitsOnly)
   {
     const bool negative = !text.empty() && text[0] == '-';

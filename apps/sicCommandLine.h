@@ -43,7 +43,7 @@ struct SlicerParameter
   /** The file's fileExtensions attribute, for files. */
   std::string FileExtensions;
   /** The default Slicer shows and passes; empty means the command line's default. */
-  std::string Default;
+  std::string              Default;
   std::vector<std::string> Elements;
   std::string              Minimum;
   std::string              Maximum;
@@ -122,9 +122,9 @@ private:
   friend ParsedCommandLine
   ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[]);
 
-  std::map<std::string, std::string> m_Options;
+  std::map<std::string, std::string>              m_Options;
   std::map<std::string, std::vector<std::string>> m_AllValues;
-  std::vector<std::string>           m_Positionals;
+  std::vector<std::string>                        m_Positionals;
 };
 
 /** Parses argv[1..argc-1]: options in any order and anywhere ("--flag value" or

@@ -97,9 +97,9 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
     }
     text << ". ";
   }
-  text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total "
-       << report.TotalSeconds << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (")
-       << report.WorkUnits << (report.WorkUnits == 1 ? " work unit)." : " work units).");
+  text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total " << report.TotalSeconds
+       << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (") << report.WorkUnits
+       << (report.WorkUnits == 1 ? " work unit)." : " work units).");
   out << text.str() << std::endl;
 }
 

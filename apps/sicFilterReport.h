@@ -31,27 +31,27 @@ namespace sic
 /** What SmallIsoComponentFilter was asked to do, from its command line. */
 struct FilterSettings
 {
-  std::string                  Input;
-  std::string                  Output;
-  std::string                  RemovedMask;
-  std::string                  Stats;
+  std::string Input;
+  std::string Output;
+  std::string RemovedMask;
+  std::string Stats;
   /** Isosurface outputs (tools built with VTK only): the filtered image's, the input's, and
    * the four-panel picture. */
-  std::string                  Surface;
-  std::string                  SurfaceBefore;
-  std::string                  Render;
-  double                       IsoValue{ 0.0 };
+  std::string Surface;
+  std::string SurfaceBefore;
+  std::string Render;
+  double      IsoValue{ 0.0 };
   /** The threshold in voxels; used unless MaximumVolume is set and positive. */
-  std::uint64_t                MaximumSize{ 20 };
-  bool                         MaximumSizeGiven{ false };
-  std::optional<double>        MaximumVolume;
+  std::uint64_t         MaximumSize{ 20 };
+  bool                  MaximumSizeGiven{ false };
+  std::optional<double> MaximumVolume;
   /** above, below or both. */
-  std::string                  Side{ "both" };
-  bool                         FullyConnected{ false };
+  std::string Side{ "both" };
+  bool        FullyConnected{ false };
   /** 0: ITK's default. */
-  std::uint64_t                Threads{ 0 };
-  bool                         Quiet{ false };
-  bool                         ProgressXml{ false };
+  std::uint64_t Threads{ 0 };
+  bool          Quiet{ false };
+  bool          ProgressXml{ false };
 
   bool
   UsesVolume() const
@@ -63,9 +63,9 @@ struct FilterSettings
 /** The statistics of one side of the isovalue. */
 struct SideReport
 {
-  std::uint64_t                           Components{ 0 };
-  std::uint64_t                           RemovedComponents{ 0 };
-  std::uint64_t                           RemovedVoxels{ 0 };
+  std::uint64_t Components{ 0 };
+  std::uint64_t RemovedComponents{ 0 };
+  std::uint64_t RemovedVoxels{ 0 };
   /** Component size (voxels) -> number of components of that size. */
   std::map<std::uint64_t, std::uint64_t> Histogram;
 };
@@ -76,13 +76,13 @@ struct FilterReport
   ScalarImageInfo Input;
   std::uint64_t   EffectiveMaximumSize{ 0 };
   /** ITK's number of threads, and the work units the filter split its work into. */
-  std::uint64_t   Threads{ 0 };
-  std::uint64_t   WorkUnits{ 0 };
-  SideReport      Above;
-  SideReport      Below;
-  std::uint64_t   ModifiedVoxels{ 0 };
-  std::uint64_t   UnrepairableVoxels{ 0 };
-  std::uint64_t   PeakExtraBytes{ 0 };
+  std::uint64_t Threads{ 0 };
+  std::uint64_t WorkUnits{ 0 };
+  SideReport    Above;
+  SideReport    Below;
+  std::uint64_t ModifiedVoxels{ 0 };
+  std::uint64_t UnrepairableVoxels{ 0 };
+  std::uint64_t PeakExtraBytes{ 0 };
   /** Connected pieces of the isosurface at the isovalue, when it was extracted: of the input,
    * of the output, and of the triangles filtering took away. */
   std::optional<std::uint64_t> SurfacePiecesBefore;

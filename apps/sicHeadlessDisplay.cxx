@@ -130,8 +130,17 @@ HeadlessDisplay::HeadlessDisplay()
       dup2(quiet, STDERR_FILENO);
     }
     const std::string fd = std::to_string(channel[1]);
-    execl(xvfb.c_str(), "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1920x1080x24", "-nolisten", "tcp",
-          "-noreset", static_cast<char *>(nullptr));
+    execl(xvfb.c_str(),
+          "Xvfb",
+          "-displayfd",
+          fd.c_str(),
+          "-screen",
+          "0",
+          "1920x1080x24",
+          "-nolisten",
+          "tcp",
+          "-noreset",
+          static_cast<char *>(nullptr));
     _exit(127);
   }
   close(channel[1]);

@@ -126,8 +126,7 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   if (info.Dimension != 2 && info.Dimension != 3)
   {
-    throw ToolError(what + " " + quoted + " is " + std::to_string(info.Dimension) +
-                    "-D; expected a 2-D or 3-D image");
+    throw ToolError(what + " " + quoted + " is " + std::to_string(info.Dimension) + "-D; expected a 2-D or 3-D image");
   }
   for (unsigned int axis = 0; axis < info.Dimension; ++axis)
   {

@@ -33,12 +33,12 @@ namespace sic
 /** What an image file's header says, for a scalar image the tools can process. */
 struct ScalarImageInfo
 {
-  std::string              Path;
-  itk::IOComponentEnum     ComponentType{ itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE };
-  unsigned int             Dimension{ 0 };
+  std::string                     Path;
+  itk::IOComponentEnum            ComponentType{ itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE };
+  unsigned int                    Dimension{ 0 };
   std::vector<itk::SizeValueType> Size;
-  std::vector<double>      Spacing;
-  std::vector<double>      Origin;
+  std::vector<double>             Spacing;
+  std::vector<double>             Origin;
 };
 
 /** Reads the header of the image file \a path (described to the user as \a what, e.g.
@@ -111,7 +111,8 @@ WriteImage(const TImage *      image,
   {
     // The message names the file the user asked for, not where it was being written.
     std::string description = error.GetDescription();
-    for (size_t at = description.find(path); at != std::string::npos; at = description.find(path, at + finalPath.size()))
+    for (size_t at = description.find(path); at != std::string::npos;
+         at = description.find(path, at + finalPath.size()))
     {
       description.replace(at, path.size(), finalPath);
     }

@@ -202,7 +202,7 @@ JsonWriter::Number(double value)
     return Null();
   }
   BeforeValue(false);
-  char buffer[64];
+  char       buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
   Raw(std::string_view(buffer, static_cast<size_t>(result.ptr - buffer)));
   return *this;

@@ -142,7 +142,7 @@ StampBlobs(PhantomImageType * image,
            double             high,
            TAccept            accept)
 {
-  const auto n = static_cast<std::int64_t>(image->GetLargestPossibleRegion().GetSize()[0]);
+  const auto    n = static_cast<std::int64_t>(image->GetLargestPossibleRegion().GetSize()[0]);
   std::uint64_t placed = 0;
   for (std::uint64_t attempt = 0; placed < count && attempt < 50 * count; ++attempt)
   {
@@ -194,7 +194,7 @@ StampBlobs(PhantomImageType * image,
 PhantomImageType::Pointer
 MakePhantom(unsigned int size, std::uint64_t seed)
 {
-  auto                          image = PhantomImageType::New();
+  auto                             image = PhantomImageType::New();
   const PhantomImageType::SizeType imageSize{ { size, size, size } };
   image->SetRegions(imageSize);
   const double spacing[3] = { 0.8, 0.8, 1.0 };
@@ -212,8 +212,8 @@ MakePhantom(unsigned int size, std::uint64_t seed)
   const auto     at = [center](std::int64_t x, std::int64_t y, std::int64_t z) {
     return Point{ static_cast<double>(x) - center, static_cast<double>(y) - center, static_cast<double>(z) - center };
   };
-  SplitMix64      noise(seed);
-  std::int16_t *  buffer = image->GetBufferPointer();
+  SplitMix64     noise(seed);
+  std::int16_t * buffer = image->GetBufferPointer();
   for (std::int64_t z = 0; z < size; ++z)
   {
     for (std::int64_t y = 0; y < size; ++y)
@@ -228,10 +228,25 @@ MakePhantom(unsigned int size, std::uint64_t seed)
   SplitMix64          placement(seed ^ 0x6a09e667f3bcc908ULL);
   const std::uint64_t voxels = static_cast<std::uint64_t>(size) * size * size;
   // Specks: dense blobs where the volume is not dense.
-  StampBlobs(image, placement, noise, std::max<std::uint64_t>(8, voxels / 1500), 0.45, 1.8, 300.0, 1000.0,
-             [&](const std::array<std::int64_t, 3> & c, double) { return geometry.Value(at(c[0], c[1], c[2])) < 100.0; });
+  StampBlobs(
+    image,
+    placement,
+    noise,
+    std::max<std::uint64_t>(8, voxels / 1500),
+    0.45,
+    1.8,
+    300.0,
+    1000.0,
+    [&](const std::array<std::int64_t, 3> & c, double) { return geometry.Value(at(c[0], c[1], c[2])) < 100.0; });
   // Bubbles: light blobs inside the dense parts, with dense material all around them.
-  StampBlobs(image, placement, noise, std::max<std::uint64_t>(8, voxels / 3000), 0.45, 1.5, -200.0, 100.0,
+  StampBlobs(image,
+             placement,
+             noise,
+             std::max<std::uint64_t>(8, voxels / 3000),
+             0.45,
+             1.5,
+             -200.0,
+             100.0,
              [&](const std::array<std::int64_t, 3> & c, double radius) {
                const auto reach = static_cast<std::int64_t>(radius) + 1;
                for (const auto & d : { std::array<std::int64_t, 3>{ 0, 0, 0 },

@@ -34,7 +34,10 @@ XmlEscaped(const std::string & text)
   std::string out;
   for (const char c : text)
   {
-    out += c == '&' ? std::string("&amp;") : c == '<' ? std::string("&lt;") : c == '>' ? std::string("&gt;") : std::string(1, c);
+    out += c == '&'   ? std::string("&amp;")
+           : c == '<' ? std::string("&lt;")
+           : c == '>' ? std::string("&gt;")
+                      : std::string(1, c);
   }
   return out;
 }

@@ -83,16 +83,16 @@ private:
   void
   ClearBar();
 
-  Style                                 m_Style;
-  std::string                           m_Name;
-  std::string                           m_StageDescription;
-  double                                m_StageBegin{ 0.0 };
-  double                                m_StageEnd{ 0.0 };
-  double                                m_Progress{ 0.0 };
-  int                                   m_Shown{ -1 };
-  bool                                  m_BarDrawn{ false };
-  bool                                  m_Finished{ false };
-  std::chrono::steady_clock::time_point m_Start;
+  Style                                         m_Style;
+  std::string                                   m_Name;
+  std::string                                   m_StageDescription;
+  double                                        m_StageBegin{ 0.0 };
+  double                                        m_StageEnd{ 0.0 };
+  double                                        m_Progress{ 0.0 };
+  int                                           m_Shown{ -1 };
+  bool                                          m_BarDrawn{ false };
+  bool                                          m_Finished{ false };
+  std::chrono::steady_clock::time_point         m_Start;
   itk::MemberCommand<ProgressReporter>::Pointer m_Observer;
 };
 } // namespace sic

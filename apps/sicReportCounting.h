@@ -45,7 +45,9 @@ template <typename TPixel>
 class ActiveCubeCounter
 {
 public:
-  ActiveCubeCounter(const TPixel * buffer, const std::vector<itk::SizeValueType> & size, itk::MultiThreaderBase * threader)
+  ActiveCubeCounter(const TPixel *                          buffer,
+                    const std::vector<itk::SizeValueType> & size,
+                    itk::MultiThreaderBase *                threader)
   {
     itk::SizeValueType cellLines = 1;
     for (size_t axis = 1; axis < size.size(); ++axis)
@@ -114,7 +116,7 @@ public:
   Count(double isoValue) const
   {
     const itk::SmallIsoComponentThreshold<TPixel> threshold(isoValue);
-    const auto below = [&](TPixel value) { return !threshold.IsAbove(value); };
+    const auto                                    below = [&](TPixel value) { return !threshold.IsAbove(value); };
     const auto minimaBelow = std::partition_point(m_Minima.begin(), m_Minima.end(), below) - m_Minima.begin();
     const auto maximaBelow = std::partition_point(m_Maxima.begin(), m_Maxima.end(), below) - m_Maxima.begin();
     return static_cast<itk::SizeValueType>(minimaBelow - maximaBelow);
@@ -137,8 +139,8 @@ private:
   {
     if constexpr (std::is_integral<TPixel>::value && sizeof(TPixel) <= 2)
     {
-      constexpr auto                     lowest = std::numeric_limits<TPixel>::lowest();
-      std::vector<itk::SizeValueType>    counts(size_t{ 1 } << (8 * sizeof(TPixel)), 0);
+      constexpr auto                  lowest = std::numeric_limits<TPixel>::lowest();
+      std::vector<itk::SizeValueType> counts(size_t{ 1 } << (8 * sizeof(TPixel)), 0);
       for (const TPixel value : values)
       {
         ++counts[static_cast<size_t>(static_cast<long>(value) - lowest)];
@@ -175,7 +177,8 @@ LabelSides(const TPixel *                          buffer,
 {
   itk::SmallIsoComponentRunLabeling labeling;
   labeling.Initialize(size, fullyConnected, threader->GetNumberOfWorkUnits());
-  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(buffer, labeling, threader, [](itk::SizeValueType, itk::SizeValueType) {});
+  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(
+    buffer, labeling, threader, [](itk::SizeValueType, itk::SizeValueType) {});
   labeling.AssembleRuns(threader);
   labeling.LinkRuns(threader);
   labeling.LabelComponents();

@@ -168,11 +168,7 @@ CheckPlotterAvailable()
 }
 
 void
-PlotReport(const Report &      report,
-           size_t              kIndex,
-           size_t              rowIndex,
-           const std::string & path,
-           const std::string & title)
+PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::string & path, const std::string & title)
 {
   CheckPlotterAvailable();
   const TemporaryDirectory directory;
@@ -189,14 +185,13 @@ PlotReport(const Report &      report,
     }
   }
   {
-    std::ofstream    data(bySize);
+    std::ofstream     data(bySize);
     const ReportRow & row = report.Rows[rowIndex];
     data << "# max_size above_removed below_removed above_voxels below_voxels\n";
     for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
     {
-      data << report.MaximumSizes[k] << ' ' << row.Above.RemovedComponents[k] << ' '
-           << row.Below.RemovedComponents[k] << ' ' << row.Above.ModifiedVoxels[k] << ' '
-           << row.Below.ModifiedVoxels[k] << '\n';
+      data << report.MaximumSizes[k] << ' ' << row.Above.RemovedComponents[k] << ' ' << row.Below.RemovedComponents[k]
+           << ' ' << row.Above.ModifiedVoxels[k] << ' ' << row.Below.ModifiedVoxels[k] << '\n';
     }
   }
 
@@ -211,14 +206,34 @@ PlotReport(const Report &      report,
            << "set grid\nset key top right opaque box\nset autoscale xfix\nset offsets 0, 0, graph 0.05, 0\n"
            << "set yrange [0:*]\nset format y '%.0f'\n"
            << "set multiplot layout 2,2 title " << Quoted(title) << "\n";
-    WritePanel(script, byIsoValue.string(), "isovalue S", "components removed",
-               "Components of <= " + K + " voxels, by isovalue", 2, 3);
-    WritePanel(script, byIsoValue.string(), "isovalue S", "voxels modified",
-               "Voxels in components of <= " + K + " voxels, by isovalue", 4, 5);
-    WritePanel(script, bySize.string(), "maximum size K (voxels)", "components removed",
-               "Components of <= K voxels at isovalue " + S, 2, 3);
-    WritePanel(script, bySize.string(), "maximum size K (voxels)", "voxels modified",
-               "Voxels in components of <= K voxels at isovalue " + S, 4, 5);
+    WritePanel(script,
+               byIsoValue.string(),
+               "isovalue S",
+               "components removed",
+               "Components of <= " + K + " voxels, by isovalue",
+               2,
+               3);
+    WritePanel(script,
+               byIsoValue.string(),
+               "isovalue S",
+               "voxels modified",
+               "Voxels in components of <= " + K + " voxels, by isovalue",
+               4,
+               5);
+    WritePanel(script,
+               bySize.string(),
+               "maximum size K (voxels)",
+               "components removed",
+               "Components of <= K voxels at isovalue " + S,
+               2,
+               3);
+    WritePanel(script,
+               bySize.string(),
+               "maximum size K (voxels)",
+               "voxels modified",
+               "Voxels in components of <= K voxels at isovalue " + S,
+               4,
+               5);
     script << "unset multiplot\nset output\n";
     if (!script)
     {

@@ -34,11 +34,7 @@ CheckPlotterAvailable();
  * and the gnuplot script go to a temporary directory, removed afterwards. \a title heads
  * the picture. Throws ToolError when gnuplot is missing or fails. */
 void
-PlotReport(const Report &      report,
-           size_t              kIndex,
-           size_t              rowIndex,
-           const std::string & path,
-           const std::string & title);
+PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::string & path, const std::string & title);
 } // namespace sic
 
 #endif

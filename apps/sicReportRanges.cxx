@@ -64,12 +64,13 @@ ParseCountList(const std::string & flag, const std::string & text)
   size_t                     begin = 0;
   while (true)
   {
-    const size_t comma = text.find(',', begin);
+    const size_t      comma = text.find(',', begin);
     const std::string item = text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
     if (item.empty())
     {
-      throw ToolError(flag + " '" + text + "' has an empty item; expected whole numbers >= 0 separated by commas, "
-                                           "e.g. 1,5,10,20,50");
+      throw ToolError(flag + " '" + text +
+                      "' has an empty item; expected whole numbers >= 0 separated by commas, "
+                      "e.g. 1,5,10,20,50");
     }
     values.push_back(ParseCount(flag, item));
     if (comma == std::string::npos)

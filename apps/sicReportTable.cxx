@@ -165,8 +165,8 @@ WriteReportMarkdown(std::ostream & stream, const Report & report)
     {
       stream << "| " << NumberText(row.IsoValue) << " | " << row.ActiveCubes << " | " << total << " | "
              << row.Above.Components << " | " << row.Below.Components << " | " << report.MaximumSizes[k] << " | "
-             << row.Above.RemovedComponents[k] << " | " << PercentText(row.Above.RemovedComponents[k], total)
-             << " | " << row.Above.ModifiedVoxels[k] << " | " << row.Below.RemovedComponents[k] << " | "
+             << row.Above.RemovedComponents[k] << " | " << PercentText(row.Above.RemovedComponents[k], total) << " | "
+             << row.Above.ModifiedVoxels[k] << " | " << row.Below.RemovedComponents[k] << " | "
              << PercentText(row.Below.RemovedComponents[k], total) << " | " << row.Below.ModifiedVoxels[k] << " |";
       if (row.Filtered)
       {
@@ -184,8 +184,7 @@ WriteReportCsv(std::ostream & stream, const Report & report)
   stream << "input,connectivity,isovalue,active_cubes,total_components,side,components,max_size,"
             "removed_components,removed_percent,modified_voxels"
          << (HasFiltered(report) ? ",surface_components_before,surface_components_after" : "") << '\n';
-  const std::string prefix =
-    CsvField(report.Input) + "," + (report.FullyConnected ? "full" : "face") + ",";
+  const std::string prefix = CsvField(report.Input) + "," + (report.FullyConnected ? "full" : "face") + ",";
   for (const ReportRow & row : report.Rows)
   {
     const std::uint64_t total = row.TotalComponents();

@@ -58,10 +58,10 @@ struct FilteredRow
 
 struct ReportRow
 {
-  double        IsoValue{ 0.0 };
-  std::uint64_t ActiveCubes{ 0 };
-  SideRow       Above;
-  SideRow       Below;
+  double                     IsoValue{ 0.0 };
+  std::uint64_t              ActiveCubes{ 0 };
+  SideRow                    Above;
+  SideRow                    Below;
   std::optional<FilteredRow> Filtered;
 
   std::uint64_t

@@ -67,7 +67,7 @@ SlicerFlag(const std::string & flag)
 
 /** One parameter; \a flag is empty for a positional, which gets \a index instead. */
 void
-WriteParameter(std::ostringstream & out,
+WriteParameter(std::ostringstream &    out,
                const SlicerParameter & parameter,
                const std::string &     flag,
                int                     index,

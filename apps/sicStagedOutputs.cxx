@@ -102,8 +102,8 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
   const fs::path directory = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
   if (!fs::exists(directory, error))
   {
-    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": the directory " +
-                    Quoted(directory) + " does not exist; expected a path in an existing directory");
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": the directory " + Quoted(directory) +
+                    " does not exist; expected a path in an existing directory");
   }
   if (!fs::is_directory(directory, error))
   {
@@ -137,8 +137,8 @@ StagedOutputs::Commit()
   std::vector<std::vector<fs::path>> files(m_Staged.size());
   for (size_t i = 0; i < m_Staged.size(); ++i)
   {
-    const Staged & staged = m_Staged[i];
-    const fs::path main = staged.Directory / staged.Final.filename();
+    const Staged &  staged = m_Staged[i];
+    const fs::path  main = staged.Directory / staged.Final.filename();
     std::error_code error;
     if (!fs::is_regular_file(main, error))
     {

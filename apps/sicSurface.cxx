@@ -272,11 +272,11 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
   RemovedTriangles removed;
   // Per triangle: 0 unchanged, 1 a speck's, 2 a bubble's.
   std::vector<std::uint8_t> kind;
-  auto specks = vtkSmartPointer<vtkCellArray>::New();
-  auto bubbles = vtkSmartPointer<vtkCellArray>::New();
-  auto all = vtkSmartPointer<vtkCellArray>::New();
-  vtkCellArray * polys = surface.GetPolys();
-  vtkPoints *    points = surface.GetPoints();
+  auto                      specks = vtkSmartPointer<vtkCellArray>::New();
+  auto                      bubbles = vtkSmartPointer<vtkCellArray>::New();
+  auto                      all = vtkSmartPointer<vtkCellArray>::New();
+  vtkCellArray *            polys = surface.GetPolys();
+  vtkPoints *               points = surface.GetPoints();
   if (polys != nullptr && points != nullptr && size[0] >= 2 && size[1] >= 2 && size[2] >= 2)
   {
     const std::size_t strideY = size[0];
@@ -289,7 +289,8 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
       cells->GetCurrentCell(count, ids);
       // The cell holding the triangle: per axis the lowest coordinate of its points, rounded
       // down (a triangle flat on a cell face may take either cell: both hold that face).
-      double lowest[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+      double lowest[3] = { std::numeric_limits<double>::max(),
+                           std::numeric_limits<double>::max(),
                            std::numeric_limits<double>::max() };
       for (vtkIdType corner = 0; corner < count; ++corner)
       {
@@ -382,7 +383,9 @@ CheckSurfaceFileFormat(const std::string & path, const std::string & what)
 }
 
 void
-WriteSurface(vtkPolyData & surface, const std::string & stagedPath, const std::string & finalPath,
+WriteSurface(vtkPolyData &       surface,
+             const std::string & stagedPath,
+             const std::string & finalPath,
              const std::string & what)
 {
   const auto write = [&](auto writer) {
@@ -392,8 +395,7 @@ WriteSurface(vtkPolyData & surface, const std::string & stagedPath, const std::s
     writer->SetFileName(stagedPath.c_str());
     const int       written = writer->Write();
     std::error_code error;
-    if (written != 1 || writer->GetErrorCode() != 0 || errors->Raised ||
-        !std::filesystem::exists(stagedPath, error))
+    if (written != 1 || writer->GetErrorCode() != 0 || errors->Raised || !std::filesystem::exists(stagedPath, error))
     {
       throw ToolError("cannot write the " + what + " to '" + finalPath + "'" +
                       (errors->Message.empty() ? std::string() : ": " + errors->Message));

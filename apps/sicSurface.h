@@ -96,7 +96,7 @@ template <typename TImage>
 SurfaceGeometry
 SurfaceGeometryOf(const TImage & image)
 {
-  SurfaceGeometry geometry;
+  SurfaceGeometry            geometry;
   typename TImage::PointType first;
   image.TransformIndexToPhysicalPoint(image.GetBufferedRegion().GetIndex(), first);
   for (unsigned int row = 0; row < 3; ++row)
@@ -161,7 +161,9 @@ CheckSurfaceFileFormat(const std::string & path, const std::string & what);
 /** Writes \a surface to \a stagedPath in the format \a finalPath's extension names (the
  * staged path may lack it). Throws sic::ToolError, naming \a finalPath, on failure. */
 void
-WriteSurface(vtkPolyData & surface, const std::string & stagedPath, const std::string & finalPath,
+WriteSurface(vtkPolyData &       surface,
+             const std::string & stagedPath,
+             const std::string & finalPath,
              const std::string & what);
 } // namespace sic
 

@@ -28,9 +28,9 @@
 namespace sic
 {
 int
-ToolMain(const ToolDescription &                                tool,
-         int                                                    argc,
-         char *                                                 argv[],
+ToolMain(const ToolDescription &                               tool,
+         int                                                   argc,
+         char *                                                argv[],
          const std::function<int(const ParsedCommandLine &)> & run)
 {
   try

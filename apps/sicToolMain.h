@@ -30,9 +30,9 @@ namespace sic
  * ExitUsage for a ToolError (a wrong command line, an input or output that cannot be
  * used), ExitFailure for anything else. */
 int
-ToolMain(const ToolDescription &                                tool,
-         int                                                    argc,
-         char *                                                 argv[],
+ToolMain(const ToolDescription &                               tool,
+         int                                                   argc,
+         char *                                                argv[],
          const std::function<int(const ParsedCommandLine &)> & run);
 } // namespace sic
 

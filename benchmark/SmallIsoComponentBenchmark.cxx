@@ -52,9 +52,9 @@ constexpr std::size_t  MaximumSize = 20;
 
 struct Row
 {
-  std::string Dataset;
-  std::size_t Voxels;
-  std::string Peer;
+  std::string  Dataset;
+  std::size_t  Voxels;
+  std::string  Peer;
   unsigned int Threads;
   double       MedianMs;
   std::size_t  PeakExtraBytes;
@@ -118,7 +118,7 @@ template <typename T>
 typename ImageType<T>::Pointer
 NewImage(std::size_t nx, std::size_t ny, std::size_t nz)
 {
-  auto                          image = ImageType<T>::New();
+  auto                            image = ImageType<T>::New();
   typename ImageType<T>::SizeType size{ { nx, ny, nz } };
   image->SetRegions(size);
   image->Allocate();
@@ -137,9 +137,9 @@ SmoothNoise(std::size_t nx,
             double      maximum,
             uint64_t    seed)
 {
-  SplitMix                  random{ seed };
-  const std::size_t         lx = nx / spacing + 2, ly = ny / spacing + 2, lz = nz / spacing + 2;
-  std::vector<float>        lattice(lx * ly * lz);
+  SplitMix           random{ seed };
+  const std::size_t  lx = nx / spacing + 2, ly = ny / spacing + 2, lz = nz / spacing + 2;
+  std::vector<float> lattice(lx * ly * lz);
   for (auto & v : lattice)
   {
     v = static_cast<float>(random.Uniform());
@@ -158,17 +158,16 @@ SmoothNoise(std::size_t nx,
       {
         const std::size_t ix = x / spacing;
         const float       fx = static_cast<float>(x % spacing) / spacing;
-        const auto        at = [&](std::size_t a, std::size_t b, std::size_t c) {
-          return lattice[(c * ly + b) * lx + a];
-        };
-        const float c00 = at(ix, iy, iz) * (1 - fx) + at(ix + 1, iy, iz) * fx;
-        const float c10 = at(ix, iy + 1, iz) * (1 - fx) + at(ix + 1, iy + 1, iz) * fx;
-        const float c01 = at(ix, iy, iz + 1) * (1 - fx) + at(ix + 1, iy, iz + 1) * fx;
-        const float c11 = at(ix, iy + 1, iz + 1) * (1 - fx) + at(ix + 1, iy + 1, iz + 1) * fx;
-        const float c0 = c00 * (1 - fy) + c10 * fy;
-        const float c1 = c01 * (1 - fy) + c11 * fy;
+        const auto   at = [&](std::size_t a, std::size_t b, std::size_t c) { return lattice[(c * ly + b) * lx + a]; };
+        const float  c00 = at(ix, iy, iz) * (1 - fx) + at(ix + 1, iy, iz) * fx;
+        const float  c10 = at(ix, iy + 1, iz) * (1 - fx) + at(ix + 1, iy + 1, iz) * fx;
+        const float  c01 = at(ix, iy, iz + 1) * (1 - fx) + at(ix + 1, iy, iz + 1) * fx;
+        const float  c11 = at(ix, iy + 1, iz + 1) * (1 - fx) + at(ix + 1, iy + 1, iz + 1) * fx;
+        const float  c0 = c00 * (1 - fy) + c10 * fy;
+        const float  c1 = c01 * (1 - fy) + c11 * fy;
         const double smooth = c0 * (1 - fz) + c1 * fz;
-        *out++ = static_cast<T>(std::lround(((1 - whiteFraction) * smooth + whiteFraction * random.Uniform()) * maximum));
+        *out++ =
+          static_cast<T>(std::lround(((1 - whiteFraction) * smooth + whiteFraction * random.Uniform()) * maximum));
       }
     }
   }
@@ -181,9 +180,9 @@ template <typename T>
 typename ImageType<T>::Pointer
 SparseBlobs(std::size_t nx, std::size_t ny, std::size_t nz, uint64_t seed)
 {
-  SplitMix random{ seed };
-  auto     image = NewImage<T>(nx, ny, nz);
-  T *      buffer = image->GetBufferPointer();
+  SplitMix          random{ seed };
+  auto              image = NewImage<T>(nx, ny, nz);
+  T *               buffer = image->GetBufferPointer();
   const std::size_t count = nx * ny * nz;
   for (std::size_t i = 0; i < count; ++i)
   {
@@ -295,7 +294,7 @@ public:
     auto copy = NewImage<T>(region.GetSize()[0], region.GetSize()[1], region.GetSize()[2]);
     std::map<std::pair<std::string, unsigned int>, std::vector<double>> times;
     std::map<std::pair<std::string, unsigned int>, std::size_t>         extra;
-    std::vector<unsigned int> threadCounts{ 1 };
+    std::vector<unsigned int>                                           threadCounts{ 1 };
     if (machineThreads > 1)
     {
       threadCounts.push_back(machineThreads);
@@ -345,12 +344,12 @@ public:
       for (const unsigned int threads : threadCounts)
       {
         itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(threads);
-        times[{ "smalliso", threads }].push_back(TimeAfterWarmUp([&] { smallIso[threads]->Modified(); },
-                                                                 [&] { smallIso[threads]->Update(); }));
+        times[{ "smalliso", threads }].push_back(
+          TimeAfterWarmUp([&] { smallIso[threads]->Modified(); }, [&] { smallIso[threads]->Update(); }));
         extra[{ "smalliso", threads }] = smallIso[threads]->GetPeakExtraMemoryInBytes();
 
-        times[{ "itk-cc-relabel", threads }].push_back(TimeAfterWarmUp([&] { threshold[threads]->Modified(); },
-                                                                       [&] { relabel[threads]->Update(); }));
+        times[{ "itk-cc-relabel", threads }].push_back(
+          TimeAfterWarmUp([&] { threshold[threads]->Modified(); }, [&] { relabel[threads]->Update(); }));
         extra[{ "itk-cc-relabel", threads }] = voxels * (sizeof(uint8_t) + 2 * sizeof(uint32_t));
       }
 
@@ -365,7 +364,8 @@ public:
     }
     const unsigned int                   most = threadCounts.back();
     const typename ImageType<T>::Pointer smallIsoOutput = smallIso[most]->GetOutput();
-    const std::size_t smallIsoRemovedAbove = smallIso[most]->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
+    const std::size_t                    smallIsoRemovedAbove =
+      smallIso[most]->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
     const std::size_t ccRemovedAbove = connected[most]->GetObjectCount() - relabel[most]->GetNumberOfObjects();
     using Side = itk::SmallIsoComponentEnums::Side;
     std::cerr << "    components above/below: " << smallIso[most]->GetNumberOfComponents(Side::Above) << " / "
@@ -387,43 +387,47 @@ public:
 
     for (const auto & entry : times)
     {
-      m_Rows.push_back({ name, voxels, entry.first.first, entry.first.second, Median(entry.second), extra[entry.first] });
+      m_Rows.push_back(
+        { name, voxels, entry.first.first, entry.first.second, Median(entry.second), extra[entry.first] });
     }
   }
 
   void
   Print(std::ostream & os) const
   {
-    os << std::left << std::setw(22) << "dataset" << std::right << std::setw(11) << "voxels" << "  " << std::left
-       << std::setw(17) << "peer" << std::right << std::setw(7) << "threads" << std::setw(11) << "median ms"
-       << std::setw(10) << "Mvox/s" << std::setw(11) << "x memcpy" << std::setw(12) << "x smalliso" << std::setw(12)
-       << "extra B/vox" << "\n";
+    os << std::left << std::setw(22) << "dataset" << std::right << std::setw(11) << "voxels"
+       << "  " << std::left << std::setw(17) << "peer" << std::right << std::setw(7) << "threads" << std::setw(11)
+       << "median ms" << std::setw(10) << "Mvox/s" << std::setw(11) << "x memcpy" << std::setw(12) << "x smalliso"
+       << std::setw(12) << "extra B/vox"
+       << "\n";
     for (const Row & row : m_Rows)
     {
       const double memcpyMs = this->Find(row.Dataset, "memcpy", 1);
       const double smallIsoMs = this->Find(row.Dataset, "smalliso", row.Peer == "smalliso" ? 1 : row.Threads);
-      os << std::left << std::setw(22) << row.Dataset << std::right << std::setw(11) << row.Voxels << "  "
-         << std::left << std::setw(17) << row.Peer << std::right << std::setw(7) << row.Threads << std::fixed
-         << std::setprecision(2) << std::setw(11) << row.MedianMs << std::setprecision(0) << std::setw(10)
-         << row.Voxels / row.MedianMs / 1000.0 << std::setprecision(2) << std::setw(11) << row.MedianMs / memcpyMs
-         << std::setw(12) << row.MedianMs / smallIsoMs << std::setprecision(3) << std::setw(12)
+      os << std::left << std::setw(22) << row.Dataset << std::right << std::setw(11) << row.Voxels << "  " << std::left
+         << std::setw(17) << row.Peer << std::right << std::setw(7) << row.Threads << std::fixed << std::setprecision(2)
+         << std::setw(11) << row.MedianMs << std::setprecision(0) << std::setw(10) << row.Voxels / row.MedianMs / 1000.0
+         << std::setprecision(2) << std::setw(11) << row.MedianMs / memcpyMs << std::setw(12)
+         << row.MedianMs / smallIsoMs << std::setprecision(3) << std::setw(12)
          << static_cast<double>(row.PeakExtraBytes) / row.Voxels << "\n";
     }
-    os << "x smalliso: ratio to smalliso at the same thread count (1 thread for smalliso rows and single-threaded peers)\n";
+    os << "x smalliso: ratio to smalliso at the same thread count (1 thread for smalliso rows and single-threaded "
+          "peers)\n";
   }
 
   void
   WriteJson(std::ostream & os) const
   {
     os << "{\"machine\": {\"hardware_threads\": " << std::thread::hardware_concurrency() << ", \"cpu\": \""
-       << CpuModel() << "\", \"compiler\": \"" << __VERSION__ << "\", \"itk\": \""
-       << itk::Version::GetITKVersion() << "\", \"repeat\": " << m_Options.Repeat << "},\n \"rows\": [";
+       << CpuModel() << "\", \"compiler\": \"" << __VERSION__ << "\", \"itk\": \"" << itk::Version::GetITKVersion()
+       << "\", \"repeat\": " << m_Options.Repeat << "},\n \"rows\": [";
     for (std::size_t i = 0; i < m_Rows.size(); ++i)
     {
       const Row & row = m_Rows[i];
       os << (i ? ",\n  " : "\n  ") << "{\"dataset\": \"" << row.Dataset << "\", \"voxels\": " << row.Voxels
-         << ", \"peer\": \"" << row.Peer << "\", \"threads\": " << row.Threads << ", \"median_ms\": "
-         << std::setprecision(6) << row.MedianMs << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << "}";
+         << ", \"peer\": \"" << row.Peer << "\", \"threads\": " << row.Threads
+         << ", \"median_ms\": " << std::setprecision(6) << row.MedianMs
+         << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << "}";
     }
     os << "\n]}\n";
   }
@@ -561,8 +565,8 @@ main(int argc, char * argv[])
 
   // Isovalues from the literature (aneurism, bonsai, lobster) and chosen for the others.
   const std::vector<std::pair<std::string, double>> volumes{
-    { "aneurism", 30.5 },      { "bonsai", 50.5 }, { "lobster", 20.5 }, { "engine", 100.5 },
-    { "boston_teapot", 40.5 }, { "frog", 30.5 },   { "tooth", 120.5 },  { "hydrogen_atom", 20.5 },
+    { "aneurism", 30.5 },      { "bonsai", 50.5 }, { "lobster", 20.5 },  { "engine", 100.5 },
+    { "boston_teapot", 40.5 }, { "frog", 30.5 },   { "tooth", 120.5 },   { "hydrogen_atom", 20.5 },
     { "silicium", 100.5 },     { "fuel", 20.5 },   { "mr_head", 1300.5 }
   };
   const std::vector<std::string> synthetic{

@@ -263,16 +263,16 @@ private:
    * called for each chunk [first, last) of \a runs in the loop that computes the new
    * values (work on the same runs, which holds \a alongsideBytes). */
   SizeValueType
-  Repair(const SmallIsoComponentRunLabeling &                      labeling,
-         const std::vector<uint8_t> &                              removedComponent,
+  Repair(const SmallIsoComponentRunLabeling &                       labeling,
+         const std::vector<uint8_t> &                               removedComponent,
          const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
-         bool                                                      removedAreAbove,
-         MaskPixelType                        maskValue,
-         OutputImageType *                    output,
-         MaskImageType *                      mask,
-         const OutputPixelType *              source = nullptr,
-         const std::function<void(SizeValueType, SizeValueType)> & alongside = nullptr,
-         SizeValueType                        alongsideBytes = 0);
+         bool                                                       removedAreAbove,
+         MaskPixelType                                              maskValue,
+         OutputImageType *                                          output,
+         MaskImageType *                                            mask,
+         const OutputPixelType *                                    source = nullptr,
+         const std::function<void(SizeValueType, SizeValueType)> &  alongside = nullptr,
+         SizeValueType                                              alongsideBytes = 0);
 
   void
   CheckAbort(float progress);

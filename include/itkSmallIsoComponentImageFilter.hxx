@@ -292,8 +292,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() I
   }
   if (m_UseMaximumComponentVolume && !(m_MaximumComponentVolume >= 0.0))
   {
-    itkExceptionMacro("MaximumComponentVolume is " << m_MaximumComponentVolume
-                                                   << "; it must be a volume >= 0 in the image's physical units cubed.");
+    itkExceptionMacro("MaximumComponentVolume is "
+                      << m_MaximumComponentVolume << "; it must be a volume >= 0 in the image's physical units cubed.");
   }
   if (m_Side != SideEnum::Above && m_Side != SideEnum::Below && m_Side != SideEnum::Both)
   {
@@ -341,9 +341,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CheckAbort(float progre
 template <typename TInputImage, typename TOutputImage>
 std::function<void(SizeValueType, SizeValueType)>
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentRunLabeling & labeling,
-                                                                   const InputImageType *         input,
-                                                                   OutputImageType *              output,
-                                                                   MaskImageType *                mask)
+                                                                    const InputImageType *         input,
+                                                                    OutputImageType *              output,
+                                                                    MaskImageType *                mask)
 {
   MaskPixelType *        maskBuffer = mask->GetBufferPointer();
   const InputPixelType * inBuffer = input->GetBufferPointer();
@@ -371,7 +371,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
           SmallIsoComponentDetail::StreamCopy(
             outBuffer + first * length, inBuffer + first * length, (end - first) * length * sizeof(OutputPixelType));
         }
-        SmallIsoComponentDetail::StreamZero(maskBuffer + first * length, (end - first) * length * sizeof(MaskPixelType));
+        SmallIsoComponentDetail::StreamZero(maskBuffer + first * length,
+                                            (end - first) * length * sizeof(MaskPixelType));
         SmallIsoComponentDetail::StreamFence();
       };
     }
@@ -416,16 +417,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
 template <typename TInputImage, typename TOutputImage>
 SizeValueType
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
-  const SmallIsoComponentRunLabeling &                      labeling,
-  const std::vector<uint8_t> &                              removedComponent,
+  const SmallIsoComponentRunLabeling &                       labeling,
+  const std::vector<uint8_t> &                               removedComponent,
   const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
-  bool                                                      removedAreAbove,
-                                                               MaskPixelType                        maskValue,
-                                                               OutputImageType *                    output,
-                                                               MaskImageType *                      mask,
-                                                               const OutputPixelType *              source,
-                                                               const std::function<void(SizeValueType, SizeValueType)> & alongside,
-                                                               SizeValueType alongsideBytes)
+  bool                                                       removedAreAbove,
+  MaskPixelType                                              maskValue,
+  OutputImageType *                                          output,
+  MaskImageType *                                            mask,
+  const OutputPixelType *                                    source,
+  const std::function<void(SizeValueType, SizeValueType)> &  alongside,
+  SizeValueType                                              alongsideBytes)
 {
   using namespace SmallIsoComponentDetail;
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
@@ -446,17 +447,17 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
   OutputPixelType * buffer = output->GetBufferPointer();
   // The values are read from \a source, which holds the output's values before the pass.
   const OutputPixelType * const read = source != nullptr ? source : buffer;
-  const auto        sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
+  const auto                    sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
 
   // New values are computed, in chunks of runs, before any is written: walks read the
   // values before the pass.
   // A few removed runs are repaired by the calling thread alone: handing them to other
   // threads costs more than it saves.
   const SizeValueType chunks = labeling.GetNumberOfChunks(runs.size(), this->GetMultiThreader());
-  const auto forEachChunk = [this, &labeling, chunks](auto && function) {
+  const auto          forEachChunk = [this, &labeling, chunks](auto && function) {
     labeling.Parallelize(this->GetMultiThreader(), chunks, function);
   };
-  const auto          chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
+  const auto chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
   std::vector<std::vector<OutputPixelType>> values(chunks);
   std::vector<SizeValueType>                unrepairable(chunks, 0);
   const SizeValueType                       voxels = output->GetBufferedRegion().GetNumberOfPixels();
@@ -549,7 +550,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
         unsigned int found = lineFound;
         for (unsigned int a = 1; a < ImageDimension; ++a)
         {
-          const OffsetValueType step = stride[a];
+          const OffsetValueType   step = stride[a];
           const OutputPixelType * v = voxel;
           for (SizeValueType k = coordinates[a]; k > 0; --k)
           {
@@ -596,34 +597,32 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
     valueBytes += chunkValues.capacity() * sizeof(OutputPixelType);
   }
   forEachChunk([&](SizeValueType chunk) {
-      auto value = values[chunk].cbegin();
-      forEachRunOf(
-        chunk,
-        [&](const LineRun & ahead) { Prefetch(maskBuffer + firstVoxel(ahead)); },
-        [&](const LineRun & removed) {
-          const SizeValueType first = firstVoxel(removed);
-          const SizeValueType count =
-            labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
-          // Runs are a few voxels: plain loops, no library calls.
-          SizeValueType newly = 0;
-          for (SizeValueType i = 0; i < count; ++i)
-          {
-            buffer[first + i] = value[i];
-            newly += maskBuffer[first + i] == 0 ? 1 : 0;
-            maskBuffer[first + i] = maskValue;
-          }
-          value += count;
-          newlyModified[chunk] += newly;
-        });
-    });
+    auto value = values[chunk].cbegin();
+    forEachRunOf(
+      chunk,
+      [&](const LineRun & ahead) { Prefetch(maskBuffer + firstVoxel(ahead)); },
+      [&](const LineRun & removed) {
+        const SizeValueType first = firstVoxel(removed);
+        const SizeValueType count = labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
+        // Runs are a few voxels: plain loops, no library calls.
+        SizeValueType newly = 0;
+        for (SizeValueType i = 0; i < count; ++i)
+        {
+          buffer[first + i] = value[i];
+          newly += maskBuffer[first + i] == 0 ? 1 : 0;
+          maskBuffer[first + i] = maskValue;
+        }
+        value += count;
+        newlyModified[chunk] += newly;
+      });
+  });
   for (const SizeValueType u : unrepairable)
   {
     m_NumberOfUnrepairableVoxels += u;
   }
-  m_PeakExtraMemoryInBytes =
-    std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedComponent.capacity() + runs.capacity() * sizeof(LineRun) + valueBytes +
-               alongsideBytes);
+  m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes,
+                                      labeling.GetMemoryInBytes() + removedComponent.capacity() +
+                                        runs.capacity() * sizeof(LineRun) + valueBytes + alongsideBytes);
   return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
 }
 
@@ -645,9 +644,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   const auto & region = output->GetBufferedRegion();
   if (input->GetBufferedRegion() != region || mask->GetBufferedRegion() != region)
   {
-    itkExceptionMacro("The input's buffered region " << input->GetBufferedRegion()
-                                                     << " differs from the output's " << region
-                                                     << "; the filter needs the whole image in one buffer.");
+    itkExceptionMacro("The input's buffered region " << input->GetBufferedRegion() << " differs from the output's "
+                                                     << region << "; the filter needs the whole image in one buffer.");
   }
   if (region.GetNumberOfPixels() == 0)
   {
@@ -677,7 +675,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   SmallIsoComponentRunLabeling labeling;
   labeling.SetWorkTeam(&team);
-  std::vector<SizeValueType>   extent(region.GetSize().begin(), region.GetSize().end());
+  std::vector<SizeValueType> extent(region.GetSize().begin(), region.GetSize().end());
   labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
 
   // Phase 1: encode each line as runs of the two sides, copying it to the output and
@@ -723,7 +721,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->CheckAbort(0.7f);
 
   const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
-  const SizeValueType                 numberOfComponents = labeling.GetNumberOfComponents();
+  const SizeValueType                               numberOfComponents = labeling.GetNumberOfComponents();
 
   // Counts a component of a side and tells whether its pass removes it: when the side is
   // processed, the component is small, and the output type has a value on the other side
@@ -781,17 +779,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // The below pass (phase 4) with Both sees the result of this one: each removed above
   // component joins the below components it touches. Finding those visits the same runs
   // as this pass's repair, so it is done in the repair's loop.
-  const bool                                         aboveWasRemoved =
-    m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
-  SmallIsoComponentRunLabeling::FlipGrouping grouping(labeling, removedAboveRuns);
-  const SizeValueType                        groupingBytes = grouping.GetScratchBytes();
+  const bool aboveWasRemoved = m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+  SmallIsoComponentRunLabeling::FlipGrouping        grouping(labeling, removedAboveRuns);
+  const SizeValueType                               groupingBytes = grouping.GetScratchBytes();
   std::function<void(SizeValueType, SizeValueType)> joinFlipped;
   if (aboveWasRemoved)
   {
     joinFlipped = [&grouping](SizeValueType first, SizeValueType last) { grouping.JoinNeighbors(first, last); };
   }
-  m_NumberOfModifiedVoxels += this->Repair(
-    labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before, joinFlipped, groupingBytes);
+  m_NumberOfModifiedVoxels +=
+    this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before, joinFlipped, groupingBytes);
   this->CheckAbort(0.8f);
 
   // Phase 4: the below pass, on the groups of below components joined by the flipped ones.
@@ -822,11 +819,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   {
     removedBelow[c] = groupOfComponent[c] != SmallIsoComponentRunLabeling::NoGroup && removedGroup[groupOfComponent[c]];
   }
-  m_PeakExtraMemoryInBytes =
-    std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedAbove.capacity() + removedBelow.capacity() + removedGroup.capacity() +
-               (groupOfComponent.capacity() + numberOfComponents) * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType) +
-               groupSize.capacity() * sizeof(SizeValueType));
+  m_PeakExtraMemoryInBytes = std::max(
+    m_PeakExtraMemoryInBytes,
+    labeling.GetMemoryInBytes() + removedAbove.capacity() + removedBelow.capacity() + removedGroup.capacity() +
+      (groupOfComponent.capacity() + numberOfComponents) * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType) +
+      groupSize.capacity() * sizeof(SizeValueType));
   this->CheckAbort(0.85f);
   std::vector<SmallIsoComponentRunLabeling::LineRun> removedBelowRuns;
   if (m_BelowStatistics.RemovedComponents > 0)

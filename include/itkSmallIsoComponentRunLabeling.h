@@ -84,7 +84,7 @@ public:
   GetMinimumRunsToShare() const
   {
     return m_WorkTeam != nullptr && m_WorkTeam->GetNumberOfHelpers() > 0 ? MinimumRunsToShareInTeam
-                                                                          : MinimumRunsToShare;
+                                                                         : MinimumRunsToShare;
   }
 
   /** Calls function(item) once for every item in [0, items), on the threader's work units,
@@ -135,8 +135,8 @@ public:
   {
     return runs < this->GetMinimumRunsToShare()
              ? 1
-             : std::min<SizeValueType>(runs,
-                                       ChunksPerWorkUnit * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
+             : std::min<SizeValueType>(
+                 runs, ChunksPerWorkUnit * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
   }
 
   /** The work units a loop is shared among: the team's, or else the threader's. */
@@ -167,8 +167,9 @@ public:
   void
   ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
   {
-    this->Parallelize(
-      threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) { function(static_cast<unsigned int>(slab)); });
+    this->Parallelize(threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) {
+      function(static_cast<unsigned int>(slab));
+    });
   }
 
   SizeValueType
@@ -363,9 +364,9 @@ private:
    * (index into the line coordinates) along which it moves, with the direction. */
   struct LineNeighbor
   {
-    std::vector<int>                              Delta;
-    OffsetValueType                               LineOffset;
-    std::vector<std::pair<unsigned int, int>>     Moves;
+    std::vector<int>                          Delta;
+    OffsetValueType                           LineOffset;
+    std::vector<std::pair<unsigned int, int>> Moves;
   };
 
   void
@@ -392,15 +393,15 @@ private:
   SizeValueType                            m_NumberOfRuns{ 0 };
   /** Arrays of m_NumberOfRuns entries, left uninitialised so that the parallel fill
    * touches their pages first. */
-  std::unique_ptr<CoordinateType[]>        m_RunStart;
-  std::vector<SizeValueType>               m_LineRunBegin;
-  std::vector<uint8_t>                     m_LineFirstAbove;
-  std::unique_ptr<RunIndexType[]>          m_RunLabel;
-  std::vector<SizeValueType>               m_ComponentSize;
-  std::vector<uint8_t>                     m_ComponentAbove;
-  std::vector<LineRun>                     m_CandidateRuns;
-  SizeValueType                            m_PeakMemoryInBytes{ 0 };
-  SmallIsoComponentWorkTeam *             m_WorkTeam{ nullptr };
+  std::unique_ptr<CoordinateType[]> m_RunStart;
+  std::vector<SizeValueType>        m_LineRunBegin;
+  std::vector<uint8_t>              m_LineFirstAbove;
+  std::unique_ptr<RunIndexType[]>   m_RunLabel;
+  std::vector<SizeValueType>        m_ComponentSize;
+  std::vector<uint8_t>              m_ComponentAbove;
+  std::vector<LineRun>              m_CandidateRuns;
+  SizeValueType                     m_PeakMemoryInBytes{ 0 };
+  SmallIsoComponentWorkTeam *       m_WorkTeam{ nullptr };
 };
 } // end namespace itk
 

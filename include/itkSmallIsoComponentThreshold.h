@@ -83,9 +83,9 @@ public:
   /** Encodes line number \a line, whose voxels start at \a values, appending its run
    * starts to \a starts and recording it in \a labeling. */
   void
-  EncodeLine(const TPixel *                                      values,
-             SizeValueType                                       line,
-             SmallIsoComponentRunLabeling &                      labeling,
+  EncodeLine(const TPixel *                                              values,
+             SizeValueType                                               line,
+             SmallIsoComponentRunLabeling &                              labeling,
              std::vector<SmallIsoComponentRunLabeling::CoordinateType> & starts) const;
 
   /** Encodes every line of \a buffer (the whole image, lines along axis 0), the slabs of

@@ -33,9 +33,9 @@ namespace SmallIsoComponentSse2
 #if defined(__SSE2__)
 /** Pixel types for which BelowBytes() exists. */
 template <typename T>
-constexpr bool HasBelowBytes = std::is_same<T, uint8_t>::value || std::is_same<T, int8_t>::value ||
-                               std::is_same<T, uint16_t>::value || std::is_same<T, int16_t>::value ||
-                               std::is_same<T, float>::value;
+constexpr bool HasBelowBytes =
+  std::is_same<T, uint8_t>::value || std::is_same<T, int8_t>::value || std::is_same<T, uint16_t>::value ||
+  std::is_same<T, int16_t>::value || std::is_same<T, float>::value;
 
 /** One bit per byte of the 16 bytes at \a p, set for the bytes of voxels below t
  * (v < t, or NaN). */
@@ -47,13 +47,15 @@ BelowBytes(const T * p, T t)
   if constexpr (std::is_same<T, uint8_t>::value)
   {
     // v >= t exactly when the saturated difference t - v is zero.
-    return ~_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_subs_epu8(_mm_set1_epi8(static_cast<char>(t)), v),
-                                             _mm_setzero_si128())) & 0xFFFFu;
+    return ~_mm_movemask_epi8(
+             _mm_cmpeq_epi8(_mm_subs_epu8(_mm_set1_epi8(static_cast<char>(t)), v), _mm_setzero_si128())) &
+           0xFFFFu;
   }
   else if constexpr (std::is_same<T, uint16_t>::value)
   {
-    return ~_mm_movemask_epi8(_mm_cmpeq_epi16(_mm_subs_epu16(_mm_set1_epi16(static_cast<short>(t)), v),
-                                              _mm_setzero_si128())) & 0xFFFFu;
+    return ~_mm_movemask_epi8(
+             _mm_cmpeq_epi16(_mm_subs_epu16(_mm_set1_epi16(static_cast<short>(t)), v), _mm_setzero_si128())) &
+           0xFFFFu;
   }
   else if constexpr (std::is_same<T, int8_t>::value)
   {
@@ -211,8 +213,8 @@ SmallIsoComponentThreshold<TPixel>::SmallIsoComponentThreshold(double isoValue)
     const double highest = static_cast<double>(std::numeric_limits<TPixel>::max());
     const double ceiling = std::ceil(isoValue);
     m_AnyAbove = ceiling <= highest;
-    m_LowestAbove = ceiling <= lowest ? std::numeric_limits<TPixel>::lowest()
-                                      : static_cast<TPixel>(m_AnyAbove ? ceiling : highest);
+    m_LowestAbove =
+      ceiling <= lowest ? std::numeric_limits<TPixel>::lowest() : static_cast<TPixel>(m_AnyAbove ? ceiling : highest);
     m_AnyBelow = ceiling - 1.0 >= lowest;
     m_HighestBelow = ceiling - 1.0 >= highest ? std::numeric_limits<TPixel>::max()
                                               : static_cast<TPixel>(m_AnyBelow ? ceiling - 1.0 : lowest);
@@ -304,8 +306,7 @@ SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
       // The last voxels: one compare of the last 16 bytes, ignoring the ones before x.
       const SizeValueType last = length - step;
       const unsigned int  below = SmallIsoComponentSse2::BelowBytes(line + last, t);
-      const unsigned int  change =
-        (above ? below : ~below & 0xFFFFu) & ~((1u << ((x - last) * sizeof(TPixel))) - 1u);
+      const unsigned int  change = (above ? below : ~below & 0xFFFFu) & ~((1u << ((x - last) * sizeof(TPixel))) - 1u);
       return change != 0 ? last + static_cast<SizeValueType>(__builtin_ctz(change)) / sizeof(TPixel) : length;
     }
   }
@@ -333,9 +334,9 @@ SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
 
 template <typename TPixel>
 void
-SmallIsoComponentThreshold<TPixel>::EncodeLine(const TPixel *                                      values,
-                                               SizeValueType                                       line,
-                                               SmallIsoComponentRunLabeling &                      labeling,
+SmallIsoComponentThreshold<TPixel>::EncodeLine(const TPixel *                                              values,
+                                               SizeValueType                                               line,
+                                               SmallIsoComponentRunLabeling &                              labeling,
                                                std::vector<SmallIsoComponentRunLabeling::CoordinateType> & starts) const
 {
   const SizeValueType length = labeling.GetLineLength();
@@ -354,10 +355,10 @@ SmallIsoComponentThreshold<TPixel>::EncodeLine(const TPixel *                   
     // One bit per voxel, set on one side of the isovalue, 64 voxels a word; a run starts
     // where a voxel's bit differs from the previous voxel's.
     const SmallIsoComponentSse2::SideBits<TPixel> sideBits(m_LowestAbove);
-    constexpr bool  marksAbove = SmallIsoComponentSse2::LanesAreAbove<TPixel>;
-    uint64_t        previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
-    SizeValueType   x = 0;
-    const auto      addStarts = [&](uint64_t change, SizeValueType base) {
+    constexpr bool                                marksAbove = SmallIsoComponentSse2::LanesAreAbove<TPixel>;
+    uint64_t      previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
+    SizeValueType x = 0;
+    const auto    addStarts = [&](uint64_t change, SizeValueType base) {
       for (; change != 0; change &= change - 1)
       {
         starts.push_back(static_cast<SmallIsoComponentRunLabeling::CoordinateType>(

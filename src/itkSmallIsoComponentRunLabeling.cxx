@@ -81,10 +81,10 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
   }
   for (SizeValueType code = 0; code < combinations; ++code)
   {
-    LineNeighbor  neighbor;
-    SizeValueType rest = code;
-    unsigned int  nonZero = 0;
-    int           highestNonZero = 0;
+    LineNeighbor    neighbor;
+    SizeValueType   rest = code;
+    unsigned int    nonZero = 0;
+    int             highestNonZero = 0;
     OffsetValueType stride = 1;
     neighbor.LineOffset = 0;
     for (unsigned int a = 0; a < otherAxes; ++a)
@@ -132,8 +132,8 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
   const SizeValueType numberOfRuns = m_LineRunBegin.back();
   if (numberOfRuns >= NumericTraits<RunIndexType>::max())
   {
-    itkGenericExceptionMacro("SmallIsoComponentRunLabeling: the image has " << numberOfRuns
-                             << " scanline runs; at most " << NumericTraits<RunIndexType>::max() - 1
+    itkGenericExceptionMacro("SmallIsoComponentRunLabeling: the image has "
+                             << numberOfRuns << " scanline runs; at most " << NumericTraits<RunIndexType>::max() - 1
                              << " are supported");
   }
   m_NumberOfRuns = numberOfRuns;
@@ -188,11 +188,11 @@ SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 inline void
 SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
 {
-  auto               a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
-  const auto         aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
-  auto               b = static_cast<RunIndexType>(m_LineRunBegin[lineB]);
-  const auto         bLast = static_cast<RunIndexType>(m_LineRunBegin[lineB + 1] - 1);
-  bool               sameSide = m_LineFirstAbove[lineA] == m_LineFirstAbove[lineB];
+  auto       a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
+  const auto aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
+  auto       b = static_cast<RunIndexType>(m_LineRunBegin[lineB]);
+  const auto bLast = static_cast<RunIndexType>(m_LineRunBegin[lineB + 1] - 1);
+  bool       sameSide = m_LineFirstAbove[lineA] == m_LineFirstAbove[lineB];
   if (a == aLast && b == bLast)
   {
     // Two lines that are one run each (common: empty background lines).
@@ -431,8 +431,8 @@ SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
         component = label[parent];
       }
       label[run] = component;
-      const SizeValueType size = m_ComponentSize[component] +
-                                 (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+      const SizeValueType size =
+        m_ComponentSize[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
       m_ComponentSize[component] = size;
       // A component's size only grows, so every run of a component that ends at most
       // candidateSize voxels large is kept. Written without a branch (which would be
@@ -557,25 +557,26 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
   // The below runs of line \a other that overlap [from, to). The run that holds from
   // (the last one starting at or before it; the line's first run starts at 0) is found
   // by a binary search without branches, which the run starts would make unpredictable.
-  const auto joinOverlapping = [&](ComponentIndexType component, SizeValueType other, SizeValueType from, SizeValueType to) {
-    const SizeValueType    otherBegin = lineRunBegin[other];
-    const SizeValueType    otherEnd = lineRunBegin[other + 1];
-    const CoordinateType * holder = runStart + otherBegin;
-    for (SizeValueType n = otherEnd - otherBegin; n > 1;)
-    {
-      const SizeValueType half = n / 2;
-      holder = holder[half] <= from ? holder + half : holder;
-      n -= half;
-    }
-    // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
-    // every other run from the holder if it is below, else from the run after it.
-    SizeValueType k = static_cast<SizeValueType>(holder - runStart);
-    k += (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0) ? 1 : 0;
-    for (; k < otherEnd && runStart[k] < to; k += 2)
-    {
-      add(component, label[k]);
-    }
-  };
+  const auto joinOverlapping =
+    [&](ComponentIndexType component, SizeValueType other, SizeValueType from, SizeValueType to) {
+      const SizeValueType    otherBegin = lineRunBegin[other];
+      const SizeValueType    otherEnd = lineRunBegin[other + 1];
+      const CoordinateType * holder = runStart + otherBegin;
+      for (SizeValueType n = otherEnd - otherBegin; n > 1;)
+      {
+        const SizeValueType half = n / 2;
+        holder = holder[half] <= from ? holder + half : holder;
+        n -= half;
+      }
+      // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
+      // every other run from the holder if it is below, else from the run after it.
+      SizeValueType k = static_cast<SizeValueType>(holder - runStart);
+      k += (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0) ? 1 : 0;
+      for (; k < otherEnd && runStart[k] < to; k += 2)
+      {
+        add(component, label[k]);
+      }
+    };
   const bool          faceConnected3D = !l.m_FullyConnected && l.m_Size.size() == 3;
   const SizeValueType plane = l.m_Size.size() > 1 ? l.m_Size[1] : 1;
   // The neighbouring lines of the runs ahead are requested early: first where their runs

@@ -68,7 +68,7 @@ SpinUntil(TDone && done)
 /** One loop handed to the team. */
 struct Job
 {
-  SizeValueType              Items;
+  SizeValueType Items;
   void (*Call)(void *, SizeValueType);
   void *                     Context;
   std::atomic<SizeValueType> Next{ 0 };
@@ -109,7 +109,7 @@ struct SmallIsoComponentWorkTeam::State
   std::condition_variable Wake;
   std::condition_variable Left;
   // Guarded by Mutex; Quitting mirrors Quit for the helpers' spinning.
-  bool              Quit{ false };
+  bool Quit{ false };
   // Whether a helper that starts now may still join (see Run()).
   bool              Open{ true };
   unsigned int      Active{ 0 };
@@ -181,7 +181,8 @@ SmallIsoComponentWorkTeam::SmallIsoComponentWorkTeam(MultiThreaderBase * threade
   // Helpers wait by spinning for a while: no more of them than the other cores. (Asked
   // once: the C++ library reads it from the system, tens of microseconds per call here.)
   static const unsigned int cores = std::thread::hardware_concurrency();
-  m_NumberOfHelpers = std::min<unsigned int>(workUnits - 1, std::max<unsigned int>(1, pool->GetMaximumNumberOfThreads()));
+  m_NumberOfHelpers =
+    std::min<unsigned int>(workUnits - 1, std::max<unsigned int>(1, pool->GetMaximumNumberOfThreads()));
   if (cores > 1)
   {
     m_NumberOfHelpers = std::min(m_NumberOfHelpers, cores - 1);
@@ -219,7 +220,8 @@ SmallIsoComponentWorkTeam::Run(SizeValueType items, CallType call, void * contex
   {
     // No helpers: the threader's work units take the items.
     const SizeValueType units = std::min<SizeValueType>(items, m_NumberOfWorkUnits);
-    m_Threader->ParallelizeArray(0, units, [&job](SizeValueType) { job.Work(); }, nullptr);
+    m_Threader->ParallelizeArray(
+      0, units, [&job](SizeValueType) { job.Work(); }, nullptr);
   }
   else
   {

@@ -95,7 +95,7 @@ MakeLattice(const std::vector<TPixel> & neighborValues, TPixel centre, TPixel fi
   for (SizeValueType i = 0; i < combinations; ++i)
   {
     typename Reference::Grid<VDimension>::CoordinatesType c;
-    SizeValueType                                          cell = i;
+    SizeValueType                                         cell = i;
     for (unsigned int a = 0; a < VDimension; ++a)
     {
       c[a] = static_cast<itk::OffsetValueType>(3 * (cell % cells) + 1);
@@ -138,11 +138,11 @@ ExpectRoundingKeepsTheSide(int isoValue, bool removeAbove)
     RunFilter<ImageType>(input.GetPointer(), Settings(isoValue, 1, removeAbove ? SideEnum::Above : SideEnum::Below));
   ASSERT_EQ(filter->GetNumberOfRemovedComponents(removeAbove ? SideEnum::Above : SideEnum::Below), sums.size());
 
-  const int64_t   n = 2 * VDimension;
-  unsigned int    halves = 0;
-  const TPixel *  output = filter->GetOutput()->GetBufferPointer();
-  const TPixel *  in = input->GetBufferPointer();
-  SizeValueType   checked = 0;
+  const int64_t  n = 2 * VDimension;
+  unsigned int   halves = 0;
+  const TPixel * output = filter->GetOutput()->GetBufferPointer();
+  const TPixel * in = input->GetBufferPointer();
+  SizeValueType  checked = 0;
   for (SizeValueType v = 0; v < input->GetBufferedRegion().GetNumberOfPixels(); ++v)
   {
     if (in[v] != centre)
@@ -186,7 +186,7 @@ TEST(SmallIsoComponentBehaviour, BubbleInsideSpeckGoesWithTheSpeck)
   rows[7 * 3 + 3] = 40;
   const auto input = MakeImage2D<uint8_t>(7, 7, rows);
 
-  const auto both = RunFilter<Image2D<uint8_t>>(input.GetPointer(), Settings(50, 8, SideEnum::Both));
+  const auto           both = RunFilter<Image2D<uint8_t>>(input.GetPointer(), Settings(50, 8, SideEnum::Both));
   std::vector<uint8_t> expected = rows;
   // Ring voxel -> mean of the first below values along -x, +x, -y, +y (worked by hand).
   expected[7 * 2 + 2] = 14; // (9 + 17 + 8 + 20) / 4 = 13.5
@@ -215,7 +215,7 @@ TEST(SmallIsoComponentBehaviour, BubbleInsideSpeckGoesWithTheSpeck)
   EXPECT_EQ(both->GetNumberOfUnrepairableVoxels(), 0u);
 
   // Below alone fills the bubble with the mean of the ring around it.
-  const auto below = RunFilter<Image2D<uint8_t>>(input.GetPointer(), Settings(50, 8, SideEnum::Below));
+  const auto           below = RunFilter<Image2D<uint8_t>>(input.GetPointer(), Settings(50, 8, SideEnum::Below));
   std::vector<uint8_t> filled = rows;
   filled[7 * 3 + 3] = 90;
   EXPECT_EQ(Values(below->GetOutput()), filled);
@@ -246,8 +246,8 @@ TEST(SmallIsoComponentBehaviour, SpeckWithBubbleInsideObjectWithBubbleIn3D)
   values[at(1, 3, 3)] = 60;  // speck
   values[at(1, 0, 0)] = 70;  // a two-voxel speck, kept
   values[at(1, 1, 0)] = 70;
-  const auto input = MakeImage<int16_t, 3>({ n, n, n }, values);
-  const auto filter = RunFilter<Image3D<int16_t>>(input.GetPointer(), Settings(0, 1, SideEnum::Both));
+  const auto           input = MakeImage<int16_t, 3>({ n, n, n }, values);
+  const auto           filter = RunFilter<Image3D<int16_t>>(input.GetPointer(), Settings(0, 1, SideEnum::Both));
   std::vector<int16_t> expected = values;
   expected[at(4, 2, 2)] = 100;
   expected[at(1, 3, 3)] = -100;
@@ -500,7 +500,7 @@ TEST(SmallIsoComponentBehaviour, MaximumComponentVolumeWithAnisotropicSpacing)
   {
     values[at(1 + k % 7, 1 + k / 7, 8)] = 100;
   }
-  auto input = MakeImage<uint8_t, 3>({ n, n, n }, values);
+  auto         input = MakeImage<uint8_t, 3>({ n, n, n }, values);
   const double spacing[3] = { 1.0, 1.0, 1.4 };
   input->SetSpacing(spacing);
 
@@ -539,7 +539,7 @@ TEST(SmallIsoComponentBehaviour, VolumeOfWholeVoxelsIsNotRoundedDown)
 {
   // k voxels of volume 0.001 have volume 0.001 k, but 0.1^3 and 0.001 k in floating point
   // give a quotient just below k for some k. A user asking for that volume means k voxels.
-  auto input = MakeImage<uint8_t, 3>({ 2, 2, 2 }, std::vector<uint8_t>(8, 0));
+  auto         input = MakeImage<uint8_t, 3>({ 2, 2, 2 }, std::vector<uint8_t>(8, 0));
   const double spacing[3] = { 0.1, 0.1, 0.1 };
   input->SetSpacing(spacing);
   auto filter = itk::SmallIsoComponentImageFilter<Image3D<uint8_t>>::New();
@@ -554,8 +554,8 @@ TEST(SmallIsoComponentBehaviour, VolumeOfWholeVoxelsIsNotRoundedDown)
 
 TEST(SmallIsoComponentBehaviour, MetadataPassesThrough)
 {
-  auto c = MakeRandomCase<float, float, 3>(777);
-  auto input = c.Input;
+  auto         c = MakeRandomCase<float, float, 3>(777);
+  auto         input = c.Input;
   const double spacing[3] = { 0.5, 0.75, 1.4 };
   const double origin[3] = { -3.0, 4.25, 10.5 };
   input->SetSpacing(spacing);
@@ -572,9 +572,8 @@ TEST(SmallIsoComponentBehaviour, MetadataPassesThrough)
   input->SetRegions(region);
 
   const auto filter = RunFilter<Image3D<float>>(input.GetPointer(), c.Settings, 2);
-  for (const itk::ImageBase<3> * output :
-       { static_cast<const itk::ImageBase<3> *>(filter->GetOutput()),
-         static_cast<const itk::ImageBase<3> *>(filter->GetRemovedMask()) })
+  for (const itk::ImageBase<3> * output : { static_cast<const itk::ImageBase<3> *>(filter->GetOutput()),
+                                            static_cast<const itk::ImageBase<3> *>(filter->GetRemovedMask()) })
   {
     EXPECT_EQ(output->GetSpacing(), input->GetSpacing());
     EXPECT_EQ(output->GetOrigin(), input->GetOrigin());
@@ -618,9 +617,9 @@ TEST(SmallIsoComponentBehaviour, InPlaceGivesTheSameResult)
     const auto c = MakeRandomCase<int16_t, int16_t, 3>(seed);
     const auto notInPlace = RunFilter<Image3D<int16_t>>(c.Input.GetPointer(), c.Settings, 2, false);
 
-    const auto     copy = MakeImage<int16_t, 3>(c.Size, c.Values);
-    const int16_t *buffer = copy->GetBufferPointer();
-    const auto     inPlace = RunFilter<Image3D<int16_t>>(copy.GetPointer(), c.Settings, 2, true);
+    const auto      copy = MakeImage<int16_t, 3>(c.Size, c.Values);
+    const int16_t * buffer = copy->GetBufferPointer();
+    const auto      inPlace = RunFilter<Image3D<int16_t>>(copy.GetPointer(), c.Settings, 2, true);
     EXPECT_EQ(inPlace->GetOutput()->GetBufferPointer(), buffer) << "the filter did not run in place";
     EXPECT_EQ(Values(inPlace->GetOutput()), Values(notInPlace->GetOutput())) << c.Description;
     EXPECT_EQ(Values(inPlace->GetRemovedMask()), Values(notInPlace->GetRemovedMask())) << c.Description;

@@ -56,7 +56,7 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
     withUnrepairable += expected.UnrepairableVoxels > 0 ? 1 : 0;
     for (const unsigned int workUnits : { 1u, 2u, 7u })
     {
-      const auto filter = RunFilter<InputImageType, OutputImageType>(c.Input, c.Settings, workUnits);
+      const auto        filter = RunFilter<InputImageType, OutputImageType>(c.Input, c.Settings, workUnits);
       const std::string differences =
         DifferencesFromReference(filter.GetPointer(), expected, c.Settings.MaximumComponentSize);
       if (!differences.empty())
@@ -67,9 +67,8 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
       }
     }
   }
-  std::cout << volumes << " volumes, " << withRemovedAbove << " with removed above components, "
-            << withRemovedBelow << " with removed below components, " << withUnrepairable
-            << " with unrepairable voxels" << std::endl;
+  std::cout << volumes << " volumes, " << withRemovedAbove << " with removed above components, " << withRemovedBelow
+            << " with removed below components, " << withUnrepairable << " with unrepairable voxels" << std::endl;
   if (failures == 0)
   {
     EXPECT_GT(withRemovedAbove, numberOfVolumes / 8);

@@ -104,8 +104,8 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
       const double aboveShare = i < values.size() / 2 ? 0.88 : 0.12;
       values[i] = static_cast<uint8_t>(random.Chance(aboveShare) ? random.Between(150, 255) : random.Between(0, 120));
     }
-    const auto  input = MakeImage<uint8_t, 3>(extent, values);
-    Parameters  settings;
+    const auto input = MakeImage<uint8_t, 3>(extent, values);
+    Parameters settings;
     settings.IsoValue = 128;
     settings.MaximumComponentSize = 20;
     settings.Side = SideEnum::Both;

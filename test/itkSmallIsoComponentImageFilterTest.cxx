@@ -70,8 +70,8 @@ PlantShell(TImage * image, const typename TImage::IndexType & corner, int edge, 
 }
 
 /** An object (a ball in 3D, a ring in 2D) of values around 170 on a background around 60,
- * with noise of -30, -20, ..., 30 (few levels keep the baselines small), 3% salt noise (single-voxel specks and bubbles), and planted
- * shells: specks with a bubble inside, bubbles with a speck inside. */
+ * with noise of -30, -20, ..., 30 (few levels keep the baselines small), 3% salt noise (single-voxel specks and
+ * bubbles), and planted shells: specks with a bubble inside, bubbles with a speck inside. */
 template <unsigned int VDimension>
 typename itk::Image<uint8_t, VDimension>::Pointer
 SynthesizeInput()
@@ -83,7 +83,7 @@ SynthesizeInput()
   image->SetRegions(size);
   image->Allocate();
 
-  NoiseSource                               noise(VDimension);
+  NoiseSource                                  noise(VDimension);
   itk::ImageRegionIteratorWithIndex<ImageType> it(image, image->GetBufferedRegion());
   for (; !it.IsAtEnd(); ++it)
   {
@@ -117,7 +117,7 @@ RemoveSmallComponents(bool fullyConnected, const char * engine, const char * out
   using FilterType = itk::SmallIsoComponentImageFilter<ImageType>;
   using SideEnum = itk::SmallIsoComponentEnums::Side;
 
-  const auto input = SynthesizeInput<VDimension>();
+  const auto                                  input = SynthesizeInput<VDimension>();
   itk::SmallIsoComponentReference::Parameters parameters;
   parameters.IsoValue = VDimension == 3 ? 115.0 : 114.5;
   parameters.MaximumComponentSize = VDimension == 3 ? 8 : 6;

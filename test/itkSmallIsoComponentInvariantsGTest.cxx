@@ -147,14 +147,14 @@ TEST(SmallIsoComponentInvariants, RemovedVoxelsEndOnTheOtherSide)
 TEST(SmallIsoComponentInvariants, CountsAgreeWithMaskAndHistograms)
 {
   ForAllKindsOfVolume(120000, [](const auto & c, auto * filter) -> std::string {
-    const auto   converted = ConvertedInput(c, filter);
-    const auto * mask = filter->GetRemovedMask()->GetBufferPointer();
-    const double iso = c.Settings.IsoValue;
+    const auto          converted = ConvertedInput(c, filter);
+    const auto *        mask = filter->GetRemovedMask()->GetBufferPointer();
+    const double        iso = c.Settings.IsoValue;
     const SizeValueType K = c.Settings.MaximumComponentSize;
-    SizeValueType inputAbove = 0;
-    SizeValueType masked = 0;
-    SizeValueType removedByAbovePass = 0;
-    SizeValueType removedByBelowPass = 0;
+    SizeValueType       inputAbove = 0;
+    SizeValueType       masked = 0;
+    SizeValueType       removedByAbovePass = 0;
+    SizeValueType       removedByBelowPass = 0;
     for (SizeValueType v = 0; v < converted.size(); ++v)
     {
       const bool above = IsAbove(converted[v], iso);
@@ -183,9 +183,9 @@ TEST(SmallIsoComponentInvariants, CountsAgreeWithMaskAndHistograms)
     for (const auto & side : sides)
     {
       typename std::remove_pointer<decltype(filter)>::type::OutputPixelType otherSide{};
-      const bool processed = c.Settings.Side == SideEnum::Both || c.Settings.Side == side.first;
-      const bool removable = side.first == SideEnum::Above ? Reference::LargestValueBelow(iso, otherSide)
-                                                           : Reference::SmallestValueNotBelow(iso, otherSide);
+      const bool    processed = c.Settings.Side == SideEnum::Both || c.Settings.Side == side.first;
+      const bool    removable = side.first == SideEnum::Above ? Reference::LargestValueBelow(iso, otherSide)
+                                                              : Reference::SmallestValueNotBelow(iso, otherSide);
       SizeValueType voxels = 0;
       SizeValueType components = 0;
       SizeValueType small = 0;
@@ -200,12 +200,10 @@ TEST(SmallIsoComponentInvariants, CountsAgreeWithMaskAndHistograms)
       const bool removes = processed && removable;
       expectEqual("voxels in the histogram", side.second, voxels);
       expectEqual("components in the histogram", filter->GetNumberOfComponents(side.first), components);
-      expectEqual("removed components from the histogram",
-                  removes ? small : 0,
-                  filter->GetNumberOfRemovedComponents(side.first));
-      expectEqual("removed voxels from the histogram",
-                  removes ? smallVoxels : 0,
-                  filter->GetNumberOfRemovedVoxels(side.first));
+      expectEqual(
+        "removed components from the histogram", removes ? small : 0, filter->GetNumberOfRemovedComponents(side.first));
+      expectEqual(
+        "removed voxels from the histogram", removes ? smallVoxels : 0, filter->GetNumberOfRemovedVoxels(side.first));
     }
     return problems.str();
   });
@@ -252,7 +250,7 @@ TEST(SmallIsoComponentInvariants, IdempotentWhenEverythingWasRepaired)
     ++checked;
     using FilterType = typename std::remove_pointer<decltype(filter)>::type;
     using OutputImageType = typename FilterType::OutputImageType;
-    const auto again = RunFilter<OutputImageType, OutputImageType>(filter->GetOutput(), c.Settings);
+    const auto          again = RunFilter<OutputImageType, OutputImageType>(filter->GetOutput(), c.Settings);
     const SizeValueType changed = CountDifferentVoxels(filter->GetOutput(), again->GetOutput());
     if (changed > 0 || again->GetNumberOfModifiedVoxels() > 0 ||
         again->GetNumberOfRemovedComponents(SideEnum::Above) > 0 ||
@@ -279,12 +277,11 @@ TEST(SmallIsoComponentInvariants, OutputIndependentOfWorkUnits)
       const bool sameMask = std::equal(filter->GetRemovedMask()->GetBufferPointer(),
                                        filter->GetRemovedMask()->GetBufferPointer() + n,
                                        other->GetRemovedMask()->GetBufferPointer());
-      bool sameStatistics = other->GetNumberOfModifiedVoxels() == filter->GetNumberOfModifiedVoxels() &&
+      bool       sameStatistics = other->GetNumberOfModifiedVoxels() == filter->GetNumberOfModifiedVoxels() &&
                             other->GetNumberOfUnrepairableVoxels() == filter->GetNumberOfUnrepairableVoxels();
       for (const SideEnum side : { SideEnum::Above, SideEnum::Below })
       {
-        sameStatistics = sameStatistics &&
-                         other->GetNumberOfComponents(side) == filter->GetNumberOfComponents(side) &&
+        sameStatistics = sameStatistics && other->GetNumberOfComponents(side) == filter->GetNumberOfComponents(side) &&
                          other->GetNumberOfRemovedComponents(side) == filter->GetNumberOfRemovedComponents(side) &&
                          other->GetNumberOfRemovedVoxels(side) == filter->GetNumberOfRemovedVoxels(side) &&
                          other->GetComponentSizeHistogram(side) == filter->GetComponentSizeHistogram(side);

@@ -442,9 +442,9 @@ RemovalPass(const Grid<VDimension> & grid,
   {
     return;
   }
-  TPixel     fallback{};
-  const bool haveFallback = removeAbove ? LargestValueBelow(parameters.IsoValue, fallback)
-                                        : SmallestValueNotBelow(parameters.IsoValue, fallback);
+  TPixel               fallback{};
+  const bool           haveFallback = removeAbove ? LargestValueBelow(parameters.IsoValue, fallback)
+                                                  : SmallestValueNotBelow(parameters.IsoValue, fallback);
   std::vector<uint8_t> removed(componentSizes.size(), 0);
   for (SizeValueType c = 0; c < componentSizes.size(); ++c)
   {

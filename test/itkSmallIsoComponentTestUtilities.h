@@ -130,12 +130,12 @@ template <typename TInputPixel, unsigned int VDimension>
 struct RandomCase
 {
   using ImageType = Image<TInputPixel, VDimension>;
-  uint32_t                                Seed{ 0 };
-  std::array<SizeValueType, VDimension>   Size{};
-  std::vector<TInputPixel>                Values;
-  typename ImageType::Pointer             Input;
-  Parameters                              Settings;
-  std::string                             Description;
+  uint32_t                              Seed{ 0 };
+  std::array<SizeValueType, VDimension> Size{};
+  std::vector<TInputPixel>              Values;
+  typename ImageType::Pointer           Input;
+  Parameters                            Settings;
+  std::string                           Description;
 };
 
 namespace Detail
@@ -249,7 +249,7 @@ DrawField(RandomSource & random, const Reference::Grid<VDimension> & grid, std::
     for (unsigned int s = 0; s < shells; ++s)
     {
       // A 3^N cube (clipped at the border) of one kind with its centre of the other.
-      const bool                     shellInside = random.Chance(0.5);
+      const bool                                            shellInside = random.Chance(0.5);
       typename Reference::Grid<VDimension>::CoordinatesType corner;
       for (unsigned int a = 0; a < VDimension; ++a)
       {
@@ -323,8 +323,8 @@ FieldToPixels(RandomSource & random, const std::vector<double> & field, std::ost
     const double high = std::min(static_cast<double>(Limits::max()), 1.0e9);
     const bool   narrow = random.Chance(0.5);
     const double scale = narrow ? 12.0 : 0.95 * (high - low);
-    const double offset = narrow ? static_cast<double>(random.Between(Limits::is_signed ? -8 : 0, 8))
-                                 : low + 0.025 * (high - low);
+    const double offset =
+      narrow ? static_cast<double>(random.Between(Limits::is_signed ? -8 : 0, 8)) : low + 0.025 * (high - low);
     description << " int(scale " << scale << ", offset " << offset << ")";
     for (SizeValueType v = 0; v < field.size(); ++v)
     {
@@ -469,9 +469,9 @@ HistogramToString(const Reference::HistogramType & histogram)
  * differs, with the first differing voxels. */
 template <typename TFilter>
 std::string
-DifferencesFromReference(TFilter *                                                                  filter,
+DifferencesFromReference(TFilter *                                                               filter,
                          const Reference::Result<typename TFilter::OutputImageType::PixelType> & expected,
-                         SizeValueType                                                              expectedK)
+                         SizeValueType                                                           expectedK)
 {
   std::ostringstream out;
   const auto *       output = filter->GetOutput()->GetBufferPointer();

@@ -191,9 +191,9 @@ TEST(SmallIsoComponentWorkTeam, HelpersTakePart)
   Team team(threader, 2);
   ASSERT_EQ(team.GetNumberOfHelpers(), 1u);
   // Item 0 waits until another item runs on another thread: that can only be a helper.
-  const std::thread::id   caller = std::this_thread::get_id();
-  std::atomic<bool>       helperSeen{ false };
-  ThreadsSeen             threads;
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool>     helperSeen{ false };
+  ThreadsSeen           threads;
   team.ForEach(64, [&](itk::SizeValueType item) {
     threads.Record();
     if (std::this_thread::get_id() != caller)
@@ -212,8 +212,8 @@ TEST(SmallIsoComponentWorkTeam, HelpersTakePart)
 
 TEST(SmallIsoComponentWorkTeam, ExceptionAfterTheItemsInProgressEnd)
 {
-  auto threader = PoolThreader(2);
-  Team team(threader, 2);
+  auto                      threader = PoolThreader(2);
+  Team                      team(threader, 2);
   std::atomic<unsigned int> inside{ 0 };
   std::atomic<unsigned int> started{ 0 };
   try
@@ -273,8 +273,8 @@ TEST(SmallIsoComponentWorkTeam, BusyPoolDoesNotHoldUpTheCaller)
   EXPECT_EQ(*threads.Get().begin(), std::this_thread::get_id());
   hold.Release();
   // The late helpers found the team gone and left; a new team gets helpers again.
-  auto threader2 = PoolThreader(2);
-  Team team(threader2, 2);
+  auto         threader2 = PoolThreader(2);
+  Team         team(threader2, 2);
   std::mt19937 random(13);
   CheckEveryItemOnce(team, 20, random);
 }

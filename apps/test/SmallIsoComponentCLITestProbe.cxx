@@ -51,9 +51,9 @@ template <typename TImage>
 void
 MakeImage(const std::string & path)
 {
-  constexpr unsigned int Dimension = TImage::ImageDimension;
-  auto                   image = TImage::New();
-  typename TImage::SizeType size;
+  constexpr unsigned int       Dimension = TImage::ImageDimension;
+  auto                         image = TImage::New();
+  typename TImage::SizeType    size;
   typename TImage::SpacingType spacing;
   typename TImage::PointType   origin;
   const unsigned int           sizes[3] = { 24, 20, 16 };
@@ -113,7 +113,7 @@ template <typename TImage>
 int
 CountNonzero(const std::string & path)
 {
-  const auto image = sic::ReadImage<TImage>(path, "image", nullptr);
+  const auto    image = sic::ReadImage<TImage>(path, "image", nullptr);
   std::uint64_t count = 0;
   for (itk::ImageRegionConstIterator<TImage> it(image, image->GetLargestPossibleRegion()); !it.IsAtEnd(); ++it)
   {
@@ -256,9 +256,8 @@ Probe(int argc, char * argv[])
   }
   if (command == "count-nonzero" && argc == 3)
   {
-    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"), [&](auto tag) {
-      return CountNonzero<typename decltype(tag)::ImageType>(argv[2]);
-    });
+    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"),
+                                    [&](auto tag) { return CountNonzero<typename decltype(tag)::ImageType>(argv[2]); });
   }
   if (command == "equal" && argc == 4)
   {

@@ -48,8 +48,8 @@ int
 MakeRandomImage(const std::string & path, std::uint64_t seed)
 {
   using PixelType = typename TImage::PixelType;
-  constexpr unsigned int Dimension = TImage::ImageDimension;
-  sic::SplitMix64        random(seed);
+  constexpr unsigned int    Dimension = TImage::ImageDimension;
+  sic::SplitMix64           random(seed);
   typename TImage::SizeType size;
   for (unsigned int axis = 0; axis < Dimension; ++axis)
   {
@@ -74,8 +74,8 @@ template <typename TImage>
 std::uint64_t
 CountActiveCells(const TImage * image, double isoValue)
 {
-  constexpr unsigned int Dimension = TImage::ImageDimension;
-  const auto             size = image->GetBufferedRegion().GetSize();
+  constexpr unsigned int      Dimension = TImage::ImageDimension;
+  const auto                  size = image->GetBufferedRegion().GetSize();
   typename TImage::RegionType cells;
   typename TImage::SizeType   cellSize;
   for (unsigned int axis = 0; axis < Dimension; ++axis)
@@ -133,8 +133,10 @@ RemovalCounts(const itk::SmallIsoComponentReference::SideStatistics & side, cons
 
 template <typename TImage>
 int
-WriteReference(const std::string & path, bool fullyConnected, const std::vector<std::uint64_t> & sizes,
-               const std::vector<double> & isoValues)
+WriteReference(const std::string &                path,
+               bool                               fullyConnected,
+               const std::vector<std::uint64_t> & sizes,
+               const std::vector<double> &        isoValues)
 {
   const auto  image = sic::ReadImage<TImage>(path, "test image", nullptr);
   sic::Report report;

@@ -55,17 +55,17 @@ namespace
 {
 int failures = 0;
 
-#define CHECK(condition, message)                                                                        \
-  do                                                                                                     \
-  {                                                                                                      \
-    if (!(condition))                                                                                    \
-    {                                                                                                    \
-      ++failures;                                                                                        \
-      if (failures <= 20)                                                                                \
-      {                                                                                                  \
+#define CHECK(condition, message)                                                                          \
+  do                                                                                                       \
+  {                                                                                                        \
+    if (!(condition))                                                                                      \
+    {                                                                                                      \
+      ++failures;                                                                                          \
+      if (failures <= 20)                                                                                  \
+      {                                                                                                    \
         std::cerr << __FILE__ << ':' << __LINE__ << ": CHECK(" #condition ") failed: " << message << '\n'; \
-      }                                                                                                  \
-    }                                                                                                    \
+      }                                                                                                    \
+    }                                                                                                      \
   } while (false)
 
 using ImageType = itk::Image<short, 3>;
@@ -82,7 +82,7 @@ template <typename TImage = ImageType>
 typename TImage::Pointer
 MakeImage(std::size_t nx, std::size_t ny, std::size_t nz, typename TImage::PixelType value = 0)
 {
-  auto                         image = TImage::New();
+  auto                        image = TImage::New();
   typename TImage::RegionType region;
   region.SetSize({ { nx, ny, nz } });
   image->SetRegions(region);
@@ -95,11 +95,11 @@ MakeImage(std::size_t nx, std::size_t ny, std::size_t nz, typename TImage::Pixel
 ImageType::Pointer
 RandomVolume(sic::SplitMix64 & random, std::size_t maxExtent)
 {
-  const auto extent = [&] { return 2 + Below(random, maxExtent - 1); };
-  const std::size_t nx = extent(), ny = extent(), nz = extent();
-  auto              image = MakeImage(nx, ny, nz);
-  const std::size_t block = 1 + Below(random, 3);
-  const std::size_t fill = 20 + Below(random, 60);
+  const auto                                  extent = [&] { return 2 + Below(random, maxExtent - 1); };
+  const std::size_t                           nx = extent(), ny = extent(), nz = extent();
+  auto                                        image = MakeImage(nx, ny, nz);
+  const std::size_t                           block = 1 + Below(random, 3);
+  const std::size_t                           fill = 20 + Below(random, 60);
   std::map<std::array<std::size_t, 3>, short> blocks;
   short *                                     buffer = image->GetBufferPointer();
   for (std::size_t z = 0; z < nz; ++z)
@@ -169,8 +169,8 @@ Triangles(vtkPolyData * surface)
 std::uint64_t
 PiecesOfTriangles(const std::vector<std::array<float, 9>> & triangles)
 {
-  std::map<std::array<float, 3>, std::size_t> pointIds;
-  std::vector<std::size_t>                     parent;
+  std::map<std::array<float, 3>, std::size_t>   pointIds;
+  std::vector<std::size_t>                      parent;
   const std::function<std::size_t(std::size_t)> find = [&](std::size_t p) {
     while (parent[p] != p)
       p = parent[p] = parent[parent[p]];
@@ -268,7 +268,8 @@ PointsLieOnCrossingEdges()
       {
         continue; // exactly on a voxel: only when a value is S or next to NaN, checked below
       }
-      std::array<long, 3> low{ { static_cast<long>(std::floor(point[0])), static_cast<long>(std::floor(point[1])),
+      std::array<long, 3> low{ { static_cast<long>(std::floor(point[0])),
+                                 static_cast<long>(std::floor(point[1])),
                                  static_cast<long>(std::floor(point[2])) } };
       std::array<long, 3> high = low;
       ++high[static_cast<std::size_t>(axis)];
@@ -281,8 +282,8 @@ PointsLieOnCrossingEdges()
       {
         const double t = (isoValue - a) / (static_cast<double>(b) - a);
         const double expected = static_cast<double>(low[static_cast<std::size_t>(axis)]) + t;
-        CHECK(std::abs(point[axis] - expected) < 1e-5, "point " << id << " at " << point[axis] << ", expected "
-                                                                 << expected);
+        CHECK(std::abs(point[axis] - expected) < 1e-5,
+              "point " << id << " at " << point[axis] << ", expected " << expected);
       }
     }
     // Every crossing edge has its point: count crossing edges by brute force.
@@ -324,7 +325,7 @@ PhysicalCoordinatesMatchITK()
     image->SetSpacing(spacing);
     const double origin[3] = { -12.5, 4.25, 30.0 + volume };
     image->SetOrigin(origin);
-    const double            angle = 0.3 * volume;
+    const double             angle = 0.3 * volume;
     ImageType::DirectionType direction;
     direction.SetIdentity();
     direction[0][0] = std::cos(angle);
@@ -402,8 +403,8 @@ FilesReadBack()
     std::filesystem::temp_directory_path() / ("sic-surface-test-" + std::to_string(::getpid()));
   std::filesystem::create_directories(directory);
   const auto check = [&](const std::string & extension, vtkPolyData * read, bool indexed) {
-    CHECK(TriangleCount(read) == triangles, extension << ": " << TriangleCount(read) << " triangles, expected "
-                                                       << triangles);
+    CHECK(TriangleCount(read) == triangles,
+          extension << ": " << TriangleCount(read) << " triangles, expected " << triangles);
     double readBounds[6];
     read->GetBounds(readBounds);
     for (int i = 0; i < 6; ++i)
@@ -483,7 +484,7 @@ BothRemovesThePiecesOfRemovedComponents()
     std::vector<bool> taken(n * n * n, false);
     const auto        at = [n](long x, long y, long z) { return static_cast<std::size_t>(x + n * (y + n * z)); };
     const auto        inside = [n](long c) { return c >= 0 && c < static_cast<long>(n); };
-    const auto mark = [&](long x0, long y0, long z0, long x1, long y1, long z1) {
+    const auto        mark = [&](long x0, long y0, long z0, long x1, long y1, long z1) {
       for (long z = z0 - 2; z <= z1 + 2; ++z)
         for (long y = y0 - 2; y <= y1 + 2; ++y)
           for (long x = x0 - 2; x <= x1 + 2; ++x)
@@ -507,7 +508,7 @@ BothRemovesThePiecesOfRemovedComponents()
       std::vector<std::array<long, 3>> cluster{ { { 2 + static_cast<long>(Below(random, n - 4)),
                                                     2 + static_cast<long>(Below(random, n - 4)),
                                                     2 + static_cast<long>(Below(random, n - 4)) } } };
-      const std::size_t size = 1 + Below(random, 6);
+      const std::size_t                size = 1 + Below(random, 6);
       while (cluster.size() < size)
       {
         auto next = cluster[Below(random, cluster.size())];
@@ -530,8 +531,8 @@ BothRemovesThePiecesOfRemovedComponents()
         continue;
       const bool inObject = image->GetPixel({ { cluster[0][0], cluster[0][1], cluster[0][2] } }) >= 50;
       for (const auto & v : cluster)
-        image->SetPixel({ { v[0], v[1], v[2] } }, static_cast<short>(inObject ? 0 + Below(random, 20)
-                                                                              : 100 + Below(random, 20)));
+        image->SetPixel({ { v[0], v[1], v[2] } },
+                        static_cast<short>(inObject ? 0 + Below(random, 20) : 100 + Below(random, 20)));
       (inObject ? bubbles : specks) += 1;
       mark(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
     }
@@ -546,8 +547,8 @@ BothRemovesThePiecesOfRemovedComponents()
     const auto removedAbove = filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
     const auto removedBelow = filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Below);
     CHECK(removedAbove == static_cast<std::uint64_t>(specks) && removedBelow == static_cast<std::uint64_t>(bubbles),
-          "volume " << volume << ": removed " << removedAbove << " + " << removedBelow << ", placed " << specks
-                    << " + " << bubbles);
+          "volume " << volume << ": removed " << removedAbove << " + " << removedBelow << ", placed " << specks << " + "
+                    << bubbles);
 
     const auto before = Surface(*image, 50.5);
     const auto after = Surface(*filter->GetOutput(), 50.5);
@@ -558,12 +559,12 @@ BothRemovesThePiecesOfRemovedComponents()
                     << removedAbove + removedBelow << " components removed");
     CHECK(piecesAfter == 1, "volume " << volume << ": the object is one piece, found " << piecesAfter);
 
-    const auto removed = sic::TrianglesOfChangedCells(
-      *before, filter->GetRemovedMask()->GetBufferPointer(), { { n, n, n } });
+    const auto removed =
+      sic::TrianglesOfChangedCells(*before, filter->GetRemovedMask()->GetBufferPointer(), { { n, n, n } });
     CHECK(sic::CountSurfacePieces(*removed.Specks) == removedAbove, "volume " << volume << ": speck pieces");
     CHECK(sic::CountSurfacePieces(*removed.Bubbles) == removedBelow, "volume " << volume << ": bubble pieces");
-    const auto whole = sic::TrianglesOfChangedCells(
-      *before, filter->GetRemovedMask()->GetBufferPointer(), { { n, n, n } }, true);
+    const auto whole =
+      sic::TrianglesOfChangedCells(*before, filter->GetRemovedMask()->GetBufferPointer(), { { n, n, n } }, true);
     CHECK(Triangles(whole.All) == Triangles(removed.All), "volume " << volume << ": isolated pieces go whole");
     // The surface after is the surface before without the removed triangles, bit for bit.
     std::vector<std::array<float, 9>> kept = Triangles(before);
@@ -646,14 +647,14 @@ PiecesSeparateAboveFaceAndBelowFullComponents()
     const auto   surface = Surface(*image, isoValue);
     // Label above with face and below with full connectivity, by the brute-force reference.
     namespace reference = itk::SmallIsoComponentReference;
-    const auto                       values = reference::BufferOf(image.GetPointer());
-    std::vector<itk::SizeValueType>  above;
-    std::vector<itk::SizeValueType>  below;
-    std::vector<itk::SizeValueType>  sizes;
-    reference::LabelSide(reference::Grid<3>(reference::SizeOf(image.GetPointer()), false), values, isoValue, true,
-                         above, sizes);
-    reference::LabelSide(reference::Grid<3>(reference::SizeOf(image.GetPointer()), true), values, isoValue, false,
-                         below, sizes);
+    const auto                      values = reference::BufferOf(image.GetPointer());
+    std::vector<itk::SizeValueType> above;
+    std::vector<itk::SizeValueType> below;
+    std::vector<itk::SizeValueType> sizes;
+    reference::LabelSide(
+      reference::Grid<3>(reference::SizeOf(image.GetPointer()), false), values, isoValue, true, above, sizes);
+    reference::LabelSide(
+      reference::Grid<3>(reference::SizeOf(image.GetPointer()), true), values, isoValue, false, below, sizes);
     // Each point lies on an edge between an above and a below voxel: its piece gets that pair.
     std::vector<vtkIdType> parent(static_cast<std::size_t>(surface->GetNumberOfPoints()));
     std::iota(parent.begin(), parent.end(), vtkIdType{ 0 });
@@ -685,14 +686,13 @@ PiecesSeparateAboveFaceAndBelowFullComponents()
       const std::size_t p = low[0] + size[0] * (low[1] + size[1] * low[2]);
       const std::size_t q = high[0] + size[0] * (high[1] + size[1] * high[2]);
       const bool        pAbove = above[p] != itk::SmallIsoComponentReference::NoComponent;
-      pairsOfPiece[find(id)].insert(pAbove ? std::make_pair(above[p], below[q])
-                                           : std::make_pair(above[q], below[p]));
+      pairsOfPiece[find(id)].insert(pAbove ? std::make_pair(above[p], below[q]) : std::make_pair(above[q], below[p]));
     }
     std::set<std::pair<std::size_t, std::size_t>> touching;
     for (const auto & [piece, pairsHere] : pairsOfPiece)
     {
-      CHECK(pairsHere.size() == 1, "volume " << volume << ": a piece separates " << pairsHere.size()
-                                             << " pairs of components");
+      CHECK(pairsHere.size() == 1,
+            "volume " << volume << ": a piece separates " << pairsHere.size() << " pairs of components");
       touching.insert(pairsHere.begin(), pairsHere.end());
     }
     // Every above (face) component touching a below (full) component across a grid edge
@@ -711,8 +711,7 @@ PiecesSeparateAboveFaceAndBelowFullComponents()
             const bool        pAbove = above[p] != itk::SmallIsoComponentReference::NoComponent;
             const bool        qAbove = above[q] != itk::SmallIsoComponentReference::NoComponent;
             if (pAbove != qAbove)
-              adjacent.insert(pAbove ? std::make_pair(above[p], below[q])
-                                     : std::make_pair(above[q], below[p]));
+              adjacent.insert(pAbove ? std::make_pair(above[p], below[q]) : std::make_pair(above[q], below[p]));
           }
     CHECK(adjacent == touching, "volume " << volume << ": touching pairs without a piece between them");
     pairs += adjacent.size();
