@@ -11,6 +11,7 @@ packages=(
   libinsighttoolkit5-dev  # ITK 5.2.1
   libgtest-dev            # GoogleTest
   python3                 # test helpers (XML and JSON checks)
+  clang-format            # the format check of scripts/test.sh
   gnuplot-nox             # SmallIsoComponentReport --plot
   libvtk9-dev libx11-dev  # isosurfaces, piece counts and --render (optional for the module)
   xvfb libgl1-mesa-dri    # off-screen rendering on a machine without a display

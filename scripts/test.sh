@@ -4,5 +4,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${SMALLISO_BUILD_DIR:-$root/build}
 "$root/scripts/setup.sh"
-cd "$build"
-ctest --output-on-failure -j "$(nproc)" --timeout 900
+status=0
+(cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900) || status=1
+"$root/scripts/check-format.sh" || status=1
+exit $status
