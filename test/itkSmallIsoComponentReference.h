@@ -74,6 +74,8 @@ struct Result
   SideStatistics       Below;
   SizeValueType        ModifiedVoxels{ 0 };
   SizeValueType        UnrepairableVoxels{ 0 };
+  /** The part of UnrepairableVoxels that got the fallback value (every walk left the image). */
+  SizeValueType FallbackVoxels{ 0 };
 };
 
 /** A voxel grid of VDimension axes, axis 0 varying fastest (ITK's buffer order). */
@@ -433,7 +435,8 @@ RemovalPass(const Grid<VDimension> & grid,
             std::vector<TPixel> &    image,
             std::vector<uint8_t> &   mask,
             SideStatistics &         statistics,
-            SizeValueType &          unrepairable)
+            SizeValueType &          unrepairable,
+            SizeValueType &          fallbacks)
 {
   std::vector<SizeValueType> label;
   std::vector<SizeValueType> componentSizes;
@@ -474,6 +477,7 @@ RemovalPass(const Grid<VDimension> & grid,
     {
       image[v] = fallback;
       ++unrepairable;
+      ++fallbacks;
     }
     mask[v] = maskValue;
   }
@@ -498,7 +502,16 @@ Run(const std::array<SizeValueType, VDimension> & size,
   {
     // Only pass A changes the image; the below statistics describe the input.
     std::vector<TOutputPixel> unchanged = result.Output;
-    RemovalPass(grid, parameters, false, false, 2, unchanged, result.Mask, result.Below, result.UnrepairableVoxels);
+    RemovalPass(grid,
+                parameters,
+                false,
+                false,
+                2,
+                unchanged,
+                result.Mask,
+                result.Below,
+                result.UnrepairableVoxels,
+                result.FallbackVoxels);
   }
   RemovalPass(grid,
               parameters,
@@ -508,11 +521,21 @@ Run(const std::array<SizeValueType, VDimension> & size,
               result.Output,
               result.Mask,
               result.Above,
-              result.UnrepairableVoxels);
+              result.UnrepairableVoxels,
+              result.FallbackVoxels);
   if (parameters.Side != SideEnum::Above)
   {
     // Pass B sees the result of pass A (the input itself when pass A did not run).
-    RemovalPass(grid, parameters, false, true, 2, result.Output, result.Mask, result.Below, result.UnrepairableVoxels);
+    RemovalPass(grid,
+                parameters,
+                false,
+                true,
+                2,
+                result.Output,
+                result.Mask,
+                result.Below,
+                result.UnrepairableVoxels,
+                result.FallbackVoxels);
   }
   for (const uint8_t m : result.Mask)
   {
