@@ -16,10 +16,12 @@
  *
  *=========================================================================*/
 // Block summaries against the brute-force reference: random volumes are cut into random grids of
-// boxes, each box is labelled on its own by a voxel flood fill written here, and the summaries are
-// merged in random orders; the statistics and every voxel's fate must be the reference's.
+// boxes, each box is labelled on its own (by a voxel flood fill written here, or by the module's
+// run labelling through SummarizeLabeling()), and the summaries are merged in random orders; the
+// statistics and every voxel's fate must be the reference's.
 
 #include "itkSmallIsoComponentBlockSummary.h"
+#include "itkSmallIsoComponentRunSummary.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include "itkSmallIsoComponentTestUtilities.h"
 
@@ -197,6 +199,52 @@ LabelBox(const Volume &                                  volume,
   return labelled;
 }
 
+/** The same box labelled by the module's run labelling, its summary made by SummarizeLabeling(). */
+template <typename TPixel>
+LabelledBox
+LabelBoxWithRuns(const Volume &                                  volume,
+                 const std::vector<TPixel> &                     values,
+                 const SmallIsoComponentThreshold<TPixel> &      threshold,
+                 const Box &                                     box,
+                 const SmallIsoComponentDetail::ComponentRules & rules,
+                 Summary &                                       summary)
+{
+  LabelledBox labelled;
+  labelled.Bounds = box;
+  Summary::IndexType extent;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    extent[a] = box[1][a] - box[0][a];
+  }
+  std::vector<TPixel> boxValues;
+  for (uint64_t z = box[0][2]; z < box[1][2]; ++z)
+    for (uint64_t y = box[0][1]; y < box[1][1]; ++y)
+      for (uint64_t x = box[0][0]; x < box[1][0]; ++x)
+      {
+        boxValues.push_back(values[volume.Index(x, y, z)]);
+      }
+  auto                         threader = MultiThreaderBase::New();
+  SmallIsoComponentRunLabeling labeling;
+  labeling.Initialize({ extent[0], extent[1], extent[2] }, rules.FullyConnected, 1);
+  threshold.Encode(boxValues.data(), labeling, threader, [](SizeValueType, SizeValueType) {});
+  labeling.AssembleRuns(threader);
+  labeling.LinkRuns(threader);
+  labeling.LabelComponents(rules.MaximumComponentSize);
+  summary = SmallIsoComponentDetail::SummarizeLabeling(labeling, extent, volume.Size, box[0], rules);
+  labelled.Label.resize(boxValues.size());
+  for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
+  {
+    for (SizeValueType run = labeling.GetLineRunsBegin(line); run < labeling.GetLineRunsEnd(line); ++run)
+    {
+      for (SizeValueType x = labeling.GetRunStart(run); x < labeling.GetRunEnd(run, line); ++x)
+      {
+        labelled.Label[line * extent[0] + x] = labeling.GetRunComponent(run);
+      }
+    }
+  }
+  return labelled;
+}
+
 /** Cuts [0, extent) at random places. */
 std::vector<uint64_t>
 RandomCuts(RandomSource & random, uint64_t extent)
@@ -215,7 +263,7 @@ RandomCuts(RandomSource & random, uint64_t extent)
 
 template <typename TPixel, unsigned int VDimension>
 void
-CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes)
+CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes, bool withRuns)
 {
   unsigned int failures = 0;
   unsigned int withRemovedBelow = 0;
@@ -263,7 +311,8 @@ CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes)
           const Box box{ std::array<uint64_t, 3>{ cuts[0][i], cuts[1][j], cuts[2][k] },
                          std::array<uint64_t, 3>{ cuts[0][i + 1], cuts[1][j + 1], cuts[2][k + 1] } };
           Summary   summary(volume.Size, box[0], box[1], rules);
-          boxes.push_back(LabelBox(volume, box, rules, summary));
+          boxes.push_back(withRuns ? LabelBoxWithRuns(volume, c.Values, threshold, box, rules, summary)
+                                   : LabelBox(volume, box, rules, summary));
           std::vector<Summary::Resolution> resolutions;
           summary.Settle(&resolutions);
           auto & tracks = boxes.back().Tracks;
@@ -410,17 +459,23 @@ CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes)
 
 TEST(SmallIsoComponentBlockSummary, MergedSummariesOf3DVolumesMatchTheReference)
 {
-  CheckSummariesOfRandomVolumes<uint8_t, 3>(1, 400);
+  CheckSummariesOfRandomVolumes<uint8_t, 3>(1, 400, false);
+}
+
+TEST(SmallIsoComponentBlockSummary, SummariesOfRunLabelledBoxesMatchTheReference)
+{
+  CheckSummariesOfRandomVolumes<uint8_t, 3>(3001, 400, true);
+  CheckSummariesOfRandomVolumes<float, 2>(4001, 300, true);
 }
 
 TEST(SmallIsoComponentBlockSummary, MergedSummariesOf2DVolumesMatchTheReference)
 {
-  CheckSummariesOfRandomVolumes<float, 2>(1001, 400);
+  CheckSummariesOfRandomVolumes<float, 2>(1001, 400, false);
 }
 
 TEST(SmallIsoComponentBlockSummary, MergedSummariesOfInt16VolumesMatchTheReference)
 {
-  CheckSummariesOfRandomVolumes<int16_t, 3>(2001, 200);
+  CheckSummariesOfRandomVolumes<int16_t, 3>(2001, 200, false);
 }
 
 TEST(SmallIsoComponentBlockSummary, DeserializeRefusesDamagedData)

@@ -1,0 +1,56 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRunSummary_h
+#define itkSmallIsoComponentRunSummary_h
+
+#include "itkSmallIsoComponentBlockSummary.h"
+#include "itkSmallIsoComponentRunLabeling.h"
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+/** The summary of a box of a 3-D image whose components \a labeling found: the labelling's
+ * image is the box (\a extent voxels from \a begin, lines along x), numbered with
+ * LabelComponents(rules.MaximumComponentSize) so that the runs of its small components are
+ * candidates. The summary is not settled yet. Internal to the module. */
+SmallIsoComponent_EXPORT BlockSummary
+SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
+                  const BlockSummary::IndexType &      extent,
+                  const BlockSummary::IndexType &      imageSize,
+                  const BlockSummary::IndexType &      begin,
+                  const ComponentRules &               rules);
+
+/** Calls visit(otherRun) for every run of the other side that touches run \a run of line \a line
+ * of \a labeling, whose image is a box of \a extent voxels: the runs beside it in its line and
+ * the other side's runs of the neighbouring lines that overlap it (diagonally too with full
+ * connectivity). A run may be visited more than once. */
+template <typename TVisit>
+void
+ForEachTouchingRunOfOtherSide(const SmallIsoComponentRunLabeling & labeling,
+                              const BlockSummary::IndexType &      extent,
+                              bool                                 fullyConnected,
+                              SizeValueType                        run,
+                              SizeValueType                        line,
+                              TVisit &&                            visit);
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#include "itkSmallIsoComponentRunSummary.hxx"
+
+#endif
