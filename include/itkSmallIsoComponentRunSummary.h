@@ -20,6 +20,7 @@
 
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunLabeling.h"
+#include "itkSmallIsoComponentThreshold.h"
 
 namespace itk
 {
@@ -35,6 +36,38 @@ SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
                   const BlockSummary::IndexType &      imageSize,
                   const BlockSummary::IndexType &      begin,
                   const ComponentRules &               rules);
+
+/** Labels the box of \a extent voxels at \a values (x fastest) with \a labeling: encodes its runs,
+ * links them under \a fullyConnected and numbers the components, keeping the runs of those of at
+ * most \a maximumComponentSize voxels as candidates; \a workUnits share the work. */
+template <typename TPixel>
+void
+LabelBox(const TPixel *                             values,
+         const BlockSummary::IndexType &            extent,
+         const SmallIsoComponentThreshold<TPixel> & threshold,
+         bool                                       fullyConnected,
+         uint64_t                                   maximumComponentSize,
+         MultiThreaderBase *                        threader,
+         unsigned int                               workUnits,
+         SmallIsoComponentRunLabeling &             labeling);
+
+/** The settled summary of the box [begin, begin + extent) of an image of \a imageSize voxels, whose
+ * voxels are at \a values: what a chunk of the chunked mode reports. */
+template <typename TPixel>
+BlockSummary
+SummarizeBox(const TPixel *                  values,
+             const BlockSummary::IndexType & extent,
+             const BlockSummary::IndexType & imageSize,
+             const BlockSummary::IndexType & begin,
+             double                          isoValue,
+             const ComponentRules &          rules,
+             MultiThreaderBase *             threader,
+             unsigned int                    workUnits);
+
+/** How far beyond a part of the image the filter's result in that part can depend on the voxels:
+ * K for one side, 2K for Side Both (docs/algorithm.md derives it). */
+SmallIsoComponent_EXPORT uint64_t
+BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side);
 
 /** Calls visit(otherRun) for every run of the other side that touches run \a run of line \a line
  * of \a labeling, whose image is a box of \a extent voxels: the runs beside it in its line and

@@ -18,10 +18,56 @@
 #ifndef itkSmallIsoComponentRunSummary_hxx
 #define itkSmallIsoComponentRunSummary_hxx
 
+#include "itkSmallIsoComponentWorkTeam.h"
+
 namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+template <typename TPixel>
+void
+LabelBox(const TPixel *                             values,
+         const BlockSummary::IndexType &            extent,
+         const SmallIsoComponentThreshold<TPixel> & threshold,
+         bool                                       fullyConnected,
+         uint64_t                                   maximumComponentSize,
+         MultiThreaderBase *                        threader,
+         unsigned int                               workUnits,
+         SmallIsoComponentRunLabeling &             labeling)
+{
+  SmallIsoComponentWorkTeam team(threader, workUnits);
+  labeling.SetWorkTeam(&team);
+  labeling.Initialize({ extent[0], extent[1], extent[2] }, fullyConnected, workUnits);
+  threshold.Encode(values, labeling, threader, [](SizeValueType, SizeValueType) {});
+  labeling.AssembleRuns(threader);
+  labeling.LinkRuns(threader);
+  labeling.LabelComponents(maximumComponentSize);
+  labeling.SetWorkTeam(nullptr);
+}
+
+template <typename TPixel>
+BlockSummary
+SummarizeBox(const TPixel *                  values,
+             const BlockSummary::IndexType & extent,
+             const BlockSummary::IndexType & imageSize,
+             const BlockSummary::IndexType & begin,
+             double                          isoValue,
+             const ComponentRules &          rules,
+             MultiThreaderBase *             threader,
+             unsigned int                    workUnits)
+{
+  const SmallIsoComponentThreshold<TPixel> threshold(isoValue);
+  ComponentRules                           boxRules = rules;
+  boxRules.AnyAbove = threshold.AnyAbove();
+  boxRules.AnyBelow = threshold.AnyBelow();
+  SmallIsoComponentRunLabeling labeling;
+  LabelBox(
+    values, extent, threshold, boxRules.FullyConnected, boxRules.MaximumComponentSize, threader, workUnits, labeling);
+  BlockSummary summary = SummarizeLabeling(labeling, extent, imageSize, begin, boxRules);
+  summary.Settle();
+  return summary;
+}
+
 template <typename TVisit>
 void
 ForEachTouchingRunOfOtherSide(const SmallIsoComponentRunLabeling & labeling,

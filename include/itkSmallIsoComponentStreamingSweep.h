@@ -56,7 +56,10 @@ public:
   using IndexType = BlockSummary::IndexType;
   using PixelType = TPixel;
   /** Called with each output plane in order: its index along axis 2, its voxels (x fastest),
-   * and the removed-voxel mask of the plane (nullptr unless the mask was asked for). */
+   * and the removed-voxel mask of the plane (nullptr unless the mask was asked for). The mask's
+   * two low bits are the filter's mask value (0 kept, 1 removed in the above pass, 2 in the below
+   * pass); bit value 4 marks a voxel that got the fallback value in the above pass (every walk
+   * left the image or stopped on NaN), 8 one that got it in the below pass. */
   using PlaneCallback = std::function<void(uint64_t plane, const TPixel * values, const uint8_t * mask)>;
 
   StreamingSweep(const IndexType &            size,
@@ -170,6 +173,26 @@ private:
   std::vector<TPixel>               m_OutputPlane;
   std::vector<uint8_t>              m_MaskPlane;
 };
+
+/** Filters the box of \a extent voxels at \a values (x fastest) as if it were the whole image, and
+ * writes the output and the mask (as StreamingSweep gives it, fallback bits included; nullptr for
+ * none) of its part [cropBegin, cropEnd), x fastest. When the box reaches BoxHalo() voxels beyond
+ * the part on every side where it does not end at the image's border, the part is exactly what
+ * filtering the whole image gives there: this is how a chunk of the chunked mode is filtered. */
+template <typename TPixel>
+void
+FilterBoxPart(const TPixel *                  values,
+              const BlockSummary::IndexType & extent,
+              const BlockSummary::IndexType & cropBegin,
+              const BlockSummary::IndexType & cropEnd,
+              double                          isoValue,
+              uint64_t                        maximumComponentSize,
+              SmallIsoComponentEnums::Side    side,
+              bool                            fullyConnected,
+              MultiThreaderBase *             threader,
+              unsigned int                    workUnits,
+              TPixel *                        output,
+              uint8_t *                       mask);
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 

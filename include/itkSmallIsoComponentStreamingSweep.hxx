@@ -20,7 +20,6 @@
 
 #include "itkSmallIsoComponentStreamingSweep.h"
 #include "itkSmallIsoComponentRunSummary.h"
-#include "itkSmallIsoComponentWorkTeam.h"
 #include "itkMath.h"
 #include <algorithm>
 #include <cmath>
@@ -42,7 +41,7 @@ struct StreamingSweep<TPixel>::Slab
   struct Repair
   {
     uint32_t Offset; // in its plane
-    uint8_t  Pass;   // the mask value: 1 above pass, 2 below pass
+    uint8_t  Mask;   // 1 above pass, 2 below pass, plus 4 or 8 for the fallback value
     TPixel   Value;
   };
 
@@ -179,16 +178,14 @@ StreamingSweep<TPixel>::ProcessSlab()
 
   // Label the slab on its own.
   const IndexType extent{ m_Size[0], m_Size[1], planes };
-  {
-    SmallIsoComponentWorkTeam team(m_Threader, m_WorkUnits);
-    s.Labeling.SetWorkTeam(&team);
-    s.Labeling.Initialize({ extent[0], extent[1], extent[2] }, m_Rules.FullyConnected, m_WorkUnits);
-    m_Threshold.Encode(s.Values.data(), s.Labeling, m_Threader, [](SizeValueType, SizeValueType) {});
-    s.Labeling.AssembleRuns(m_Threader);
-    s.Labeling.LinkRuns(m_Threader);
-    s.Labeling.LabelComponents(m_Rules.MaximumComponentSize);
-    s.Labeling.SetWorkTeam(nullptr);
-  }
+  LabelBox(s.Values.data(),
+           extent,
+           m_Threshold,
+           m_Rules.FullyConnected,
+           m_Rules.MaximumComponentSize,
+           m_Threader,
+           m_WorkUnits,
+           s.Labeling);
   const SizeValueType  components = s.Labeling.GetNumberOfComponents();
   std::vector<uint8_t> small(components, 0);
   for (SizeValueType c = 0; c < components; ++c)
@@ -410,7 +407,8 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
           }
         }
       }
-      TPixel repaired = fallback;
+      TPixel  repaired = fallback;
+      uint8_t maskValue = abovePass ? 1 : 2;
       if (found > 0)
       {
         const double mean = sum / found;
@@ -426,9 +424,9 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
       else
       {
         ++m_FallbackVoxels;
+        maskValue |= abovePass ? 4 : 8;
       }
-      slab.Repairs[zInSlab].push_back(
-        { static_cast<uint32_t>(y * m_Size[0] + x), static_cast<uint8_t>(abovePass ? 1 : 2), repaired });
+      slab.Repairs[zInSlab].push_back({ static_cast<uint32_t>(y * m_Size[0] + x), maskValue, repaired });
     }
   }
 }
@@ -463,7 +461,8 @@ StreamingSweep<TPixel>::EmitReadyPlanes()
       m_OutputPlane[repair.Offset] = repair.Value;
       if (m_WithMask)
       {
-        m_MaskPlane[repair.Offset] = repair.Pass;
+        // The later pass's value, the fallback marks of both.
+        m_MaskPlane[repair.Offset] = static_cast<uint8_t>((m_MaskPlane[repair.Offset] & 12) | repair.Mask);
       }
     }
     std::vector<typename Slab::Repair>().swap(slab.Repairs[zInSlab]);
@@ -491,6 +490,62 @@ StreamingSweep<TPixel>::UpdateMemory()
   }
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, bytes);
   m_PeakWindowPlanes = std::max(m_PeakWindowPlanes, planes);
+}
+template <typename TPixel>
+void
+FilterBoxPart(const TPixel *                  values,
+              const BlockSummary::IndexType & extent,
+              const BlockSummary::IndexType & cropBegin,
+              const BlockSummary::IndexType & cropEnd,
+              double                          isoValue,
+              uint64_t                        maximumComponentSize,
+              SmallIsoComponentEnums::Side    side,
+              bool                            fullyConnected,
+              MultiThreaderBase *             threader,
+              unsigned int                    workUnits,
+              TPixel *                        output,
+              uint8_t *                       mask)
+{
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    if (!(cropBegin[a] < cropEnd[a] && cropEnd[a] <= extent[a]))
+    {
+      itkGenericExceptionMacro("FilterBoxPart: the part [" << cropBegin[a] << ", " << cropEnd[a] << ") along axis " << a
+                                                           << " is empty or outside the box of " << extent[a]
+                                                           << " voxels");
+    }
+  }
+  const uint64_t cropWidth = cropEnd[0] - cropBegin[0];
+  const uint64_t cropHeight = cropEnd[1] - cropBegin[1];
+  // The planes of the part are kept; the sweep needs not hold more than a window.
+  StreamingSweep<TPixel> sweep(extent,
+                               isoValue,
+                               maximumComponentSize,
+                               side,
+                               fullyConnected,
+                               extent[2],
+                               mask != nullptr,
+                               threader,
+                               workUnits,
+                               [&](uint64_t plane, const TPixel * planeValues, const uint8_t * planeMask) {
+                                 if (plane < cropBegin[2] || plane >= cropEnd[2])
+                                 {
+                                   return;
+                                 }
+                                 for (uint64_t y = cropBegin[1]; y < cropEnd[1]; ++y)
+                                 {
+                                   const uint64_t from = y * extent[0] + cropBegin[0];
+                                   const uint64_t to =
+                                     ((plane - cropBegin[2]) * cropHeight + (y - cropBegin[1])) * cropWidth;
+                                   std::copy(planeValues + from, planeValues + from + cropWidth, output + to);
+                                   if (mask != nullptr)
+                                   {
+                                     std::copy(planeMask + from, planeMask + from + cropWidth, mask + to);
+                                   }
+                                 }
+                               });
+  sweep.Push(values, extent[2]);
+  sweep.Finish();
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

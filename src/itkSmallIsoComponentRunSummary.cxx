@@ -21,6 +21,12 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+uint64_t
+BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side)
+{
+  return side == SmallIsoComponentEnums::Side::Both ? 2 * maximumComponentSize : maximumComponentSize;
+}
+
 BlockSummary
 SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
                   const BlockSummary::IndexType &      extent,

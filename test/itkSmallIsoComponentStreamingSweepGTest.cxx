@@ -88,14 +88,21 @@ SweepDifferences(const RandomCase<TPixel, VDimension> & c,
   }
   uint64_t wrongVoxels = 0;
   uint64_t wrongMask = 0;
+  uint64_t fallbackMarks = 0;
   for (std::size_t v = 0; v < output.size(); ++v)
   {
     wrongVoxels += SameBits(output[v], expected.Output[v]) ? 0 : 1;
-    wrongMask += mask[v] == expected.Mask[v] ? 0 : 1;
+    wrongMask += (mask[v] & 3) == expected.Mask[v] ? 0 : 1;
+    fallbackMarks += ((mask[v] & 4) != 0 ? 1 : 0) + ((mask[v] & 8) != 0 ? 1 : 0);
   }
   if (wrongVoxels > 0 || wrongMask > 0)
   {
     differences << " " << wrongVoxels << " voxels and " << wrongMask << " mask voxels differ";
+  }
+  if (fallbackMarks != expected.FallbackVoxels)
+  {
+    differences << " " << fallbackMarks << " voxels marked as given the fallback value, not "
+                << expected.FallbackVoxels;
   }
   const auto & tally = sweep.GetTally();
   const auto   compareSide =
