@@ -39,6 +39,11 @@ struct ComponentRules
   bool                         FullyConnected{ false };
   bool                         AnyAbove{ true };
   bool                         AnyBelow{ true };
+
+  /** K for a maximum component volume: floor(volume / voxelVolume), with a relative tolerance of
+   * 1e-12 so that a volume of exactly k voxels gives k despite rounding; saturates. */
+  static uint64_t
+  MaximumSizeForVolume(double volume, double voxelVolume);
 };
 
 /** Component counts of one side: how many, how many removed, their voxels, and the size

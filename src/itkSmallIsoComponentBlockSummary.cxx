@@ -18,12 +18,23 @@
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkMacro.h"
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+uint64_t
+ComponentRules::MaximumSizeForVolume(double volume, double voxelVolume)
+{
+  const double voxels = volume / voxelVolume * (1.0 + 1e-12);
+  return voxels >= static_cast<double>(std::numeric_limits<uint64_t>::max())
+           ? std::numeric_limits<uint64_t>::max()
+           : static_cast<uint64_t>(std::floor(voxels));
+}
+
 void
 SideTally::Add(uint64_t size, bool removed)
 {
