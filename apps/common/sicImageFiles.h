@@ -33,7 +33,6 @@ namespace sic
 /** What an image file's header says, for a scalar image the tools can process. */
 struct ScalarImageInfo
 {
-  std::string                     Path;
   itk::IOComponentEnum            ComponentType{ itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE };
   unsigned int                    Dimension{ 0 };
   std::vector<itk::SizeValueType> Size;

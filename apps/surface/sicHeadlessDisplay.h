@@ -41,13 +41,6 @@ public:
   operator=(const HeadlessDisplay &) = delete;
   ~HeadlessDisplay();
 
-  /** Whether this object started Xvfb (false when an existing display is used). */
-  bool
-  StartedServer() const
-  {
-    return m_Server > 0;
-  }
-
 private:
   pid_t       m_Server{ -1 };
   std::string m_PreviousDisplay;
