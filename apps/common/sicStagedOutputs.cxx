@@ -21,6 +21,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 
 namespace sic
 {
@@ -182,5 +183,20 @@ StagedOutputs::Commit()
     fs::remove(staged.Directory, ignored);
   }
   m_Staged.clear();
+}
+
+void
+WriteTextFile(const std::string & path,
+              const std::string & finalPath,
+              const std::string & what,
+              const std::string & text)
+{
+  std::ofstream file(path);
+  file << text;
+  file.close();
+  if (!file)
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(finalPath));
+  }
 }
 } // namespace sic

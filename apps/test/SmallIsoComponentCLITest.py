@@ -367,6 +367,8 @@ class SmallIsoComponentCLITest(ToolTestCase):
             ([source, output, "--isovalue", "50", "--isovalue", "60"], "given twice"),
             ([source, output, "extra", "--isovalue", "50"], "unexpected extra argument"),
             ([source, output, "--isovalue", "50", "--threads", "many"], "--threads"),
+            ([source, output, "--isovalue", "50", "--threads", "1000000"], "--threads 1000000 is too many"),
+            ([source, output, "--isovalue", "50", "--stats="], "--stats is empty; expected a file path"),
         ]
         for arguments, words in cases:
             with self.subTest(arguments=arguments):
