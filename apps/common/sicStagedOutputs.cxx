@@ -16,11 +16,9 @@
  *
  *=========================================================================*/
 #include "sicStagedOutputs.h"
+#include "sicPlatform.h"
 #include "sicToolError.h"
 
-#include <cerrno>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 
 namespace sic
@@ -121,14 +119,14 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
     }
   }
 
-  std::string pattern = (directory / ("." + name.string() + ".tmp-XXXXXX")).string();
-  if (!::mkdtemp(pattern.data()))
+  const fs::path staging = CreateUniqueDirectory(directory, "." + name.string() + ".tmp-", error);
+  if (staging.empty())
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": cannot create a file in " +
-                    Quoted(directory) + " (" + std::strerror(errno) + ")");
+                    Quoted(directory) + " (" + error.message() + ")");
   }
-  m_Staged.push_back({ destination, what, fs::path(pattern) });
-  return (fs::path(pattern) / name).string();
+  m_Staged.push_back({ destination, what, staging });
+  return (staging / name).string();
 }
 
 void

@@ -17,22 +17,16 @@
  *=========================================================================*/
 #include "sicHeadlessDisplay.h"
 
+#include "sicPlatform.h"
 #include "sicToolError.h"
 
 #include <X11/Xlib.h>
 
-#include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
-#include <cstring>
-#include <fcntl.h>
-#include <poll.h>
 #include <stdexcept>
 #include <string>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include <vector>
 
 namespace sic
 {
@@ -56,26 +50,7 @@ DisplayWorks()
   return true;
 }
 
-/** The path of the Xvfb program on $PATH, or empty. */
-std::string
-FindXvfb()
-{
-  const char * path = std::getenv("PATH");
-  std::string  directories = path != nullptr ? path : "/usr/bin:/bin";
-  size_t       start = 0;
-  while (start <= directories.size())
-  {
-    const size_t      end = std::min(directories.find(':', start), directories.size());
-    const std::string directory = directories.substr(start, end - start);
-    const std::string candidate = (directory.empty() ? std::string(".") : directory) + "/Xvfb";
-    if (access(candidate.c_str(), X_OK) == 0)
-    {
-      return candidate;
-    }
-    start = end + 1;
-  }
-  return "";
-}
+const char * const Xvfb = "Xvfb";
 
 const char * const MissingDisplay =
   "rendering needs an X display and there is none ($DISPLAY is unset or cannot be opened) and no Xvfb "
@@ -86,7 +61,7 @@ const char * const MissingDisplay =
 void
 HeadlessDisplay::CheckAvailable()
 {
-  if (!DisplayWorks() && FindXvfb().empty())
+  if (!DisplayWorks() && FindProgram(Xvfb).empty())
   {
     throw ToolError(MissingDisplay);
   }
@@ -98,103 +73,41 @@ HeadlessDisplay::HeadlessDisplay()
   {
     return;
   }
-  const std::string xvfb = FindXvfb();
+  const std::filesystem::path xvfb = FindProgram(Xvfb);
   if (xvfb.empty())
   {
     throw ToolError(MissingDisplay);
   }
-  const char * previous = std::getenv("DISPLAY");
-  m_HadDisplay = previous != nullptr;
-  m_PreviousDisplay = previous != nullptr ? previous : "";
-
-  int channel[2];
-  if (pipe(channel) != 0)
-  {
-    throw std::runtime_error(std::string("cannot start Xvfb: pipe failed: ") + std::strerror(errno));
-  }
-  const pid_t child = fork();
-  if (child < 0)
-  {
-    close(channel[0]);
-    close(channel[1]);
-    throw std::runtime_error(std::string("cannot start Xvfb: fork failed: ") + std::strerror(errno));
-  }
-  if (child == 0)
-  {
-    // Xvfb writes the display number it chose to the pipe once it accepts connections.
-    close(channel[0]);
-    const int quiet = open("/dev/null", O_WRONLY);
-    if (quiet >= 0)
-    {
-      dup2(quiet, STDOUT_FILENO);
-      dup2(quiet, STDERR_FILENO);
-    }
-    const std::string fd = std::to_string(channel[1]);
-    execl(xvfb.c_str(),
-          "Xvfb",
-          "-displayfd",
-          fd.c_str(),
-          "-screen",
-          "0",
-          "1920x1080x24",
-          "-nolisten",
-          "tcp",
-          "-noreset",
-          static_cast<char *>(nullptr));
-    _exit(127);
-  }
-  close(channel[1]);
-  m_Server = child;
-
-  std::string number;
-  const auto  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (number.find('\n') == std::string::npos)
-  {
-    const auto left =
-      std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
-    pollfd wait{ channel[0], POLLIN, 0 };
-    if (left <= 0 || poll(&wait, 1, static_cast<int>(left)) <= 0)
-    {
-      break;
-    }
-    char      text[32];
-    const int got = static_cast<int>(read(channel[0], text, sizeof(text)));
-    if (got <= 0)
-    {
-      break;
-    }
-    number.append(text, static_cast<size_t>(got));
-  }
-  close(channel[0]);
-  while (!number.empty() && (number.back() == '\n' || number.back() == '\r'))
-  {
-    number.pop_back();
-  }
+  // Xvfb writes the display number it chose to its pipe once it accepts connections.
+  auto server = std::make_unique<BackgroundProgram>(
+    xvfb, "-displayfd", std::vector<std::string>{ "-screen", "0", "1920x1080x24", "-nolisten", "tcp", "-noreset" });
+  const std::string number = server->ReadLine(std::chrono::seconds(30));
   if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos)
   {
-    kill(m_Server, SIGTERM);
-    waitpid(m_Server, nullptr, 0);
-    m_Server = -1;
-    throw std::runtime_error("cannot render: " + xvfb + " did not start a virtual display within 30 s");
+    throw std::runtime_error("cannot render: " + xvfb.string() + " did not start a virtual display within 30 s");
   }
-  setenv("DISPLAY", (":" + number).c_str(), 1);
+  if (const char * previous = std::getenv("DISPLAY"))
+  {
+    m_PreviousDisplay = previous;
+  }
+  m_Server = std::move(server);
+  SetEnvironmentVariable("DISPLAY", ":" + number);
 }
 
 HeadlessDisplay::~HeadlessDisplay()
 {
-  if (m_Server <= 0)
+  if (!m_Server)
   {
     return;
   }
-  kill(m_Server, SIGTERM);
-  waitpid(m_Server, nullptr, 0);
-  if (m_HadDisplay)
+  m_Server.reset();
+  if (m_PreviousDisplay)
   {
-    setenv("DISPLAY", m_PreviousDisplay.c_str(), 1);
+    SetEnvironmentVariable("DISPLAY", *m_PreviousDisplay);
   }
   else
   {
-    unsetenv("DISPLAY");
+    UnsetEnvironmentVariable("DISPLAY");
   }
 }
 } // namespace sic
