@@ -107,12 +107,6 @@ public:
   }
 
   itk::SizeValueType
-  GetNumberOfCells() const
-  {
-    return m_Minima.size();
-  }
-
-  itk::SizeValueType
   Count(double isoValue) const
   {
     const itk::SmallIsoComponentThreshold<TPixel> threshold(isoValue);
