@@ -10,6 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libinsighttoolkit5-dev  # ITK 5.2.1
   libgtest-dev            # GoogleTest
+  zlib1g-dev              # the tools' streamed image files
   python3                 # test helpers (XML and JSON checks)
   clang-format            # the format check of scripts/test.sh
   gnuplot-nox             # SmallIsoComponentReport --plot
@@ -32,7 +33,21 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+# SlicerExecutionModel, for the test that reads the filter's --xml with Slicer's own parser: a source
+# tree, archive or build tree named by $SMALLISO_SLICER_EXECUTION_MODEL, else the archive in the
+# folder of third-party sources beside the repository when there is one.
+sem=${SMALLISO_SLICER_EXECUTION_MODEL:-}
+if [ -z "$sem" ]; then
+  sem=$(ls "$root"/../shared/vendor/SlicerExecutionModel-*.tar.gz 2>/dev/null | head -n 1 || true)
+fi
+if [ -n "$sem" ]; then
+  echo "setup: Slicer's parser test uses SlicerExecutionModel from $sem"
+else
+  echo "setup: no SlicerExecutionModel found (set SMALLISO_SLICER_EXECUTION_MODEL): the Slicer parser test will be skipped"
+fi
+
 echo "setup: configuring and building in $build"
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON >"$build.configure.log" 2>&1 || {
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON \
+  -DSmallIsoComponent_SLICER_EXECUTION_MODEL="$sem" >"$build.configure.log" 2>&1 || {
   cat "$build.configure.log" >&2; exit 1; }
 cmake --build "$build" -j "$(nproc)"

@@ -34,10 +34,13 @@ namespace
 using namespace itk;
 using namespace itk::SmallIsoComponentTest;
 
+/** A file of this test's own (ctest runs the tests of this file at the same time). */
 std::string
 ScratchFile(const std::string & name)
 {
-  const auto directory = std::filesystem::temp_directory_path() / "SmallIsoComponentStreamingImageFilterGTest";
+  const auto * test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const auto   directory =
+    std::filesystem::temp_directory_path() / "SmallIsoComponentStreamingImageFilterGTest" / test->name();
   std::filesystem::create_directories(directory);
   return (directory / name).string();
 }

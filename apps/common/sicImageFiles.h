@@ -85,20 +85,22 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   return image;
 }
 
-/** Writes \a image to \a path, compressed where the format allows. \a finalPath is the
- * path the user asked for (the file may be written elsewhere first), for messages. */
+/** Writes \a image to \a path, compressed where the format allows unless \a compress is false.
+ * \a finalPath is the path the user asked for (the file may be written elsewhere first), for
+ * messages. */
 template <typename TImage>
 void
 WriteImage(const TImage *      image,
            const std::string & path,
            const std::string & finalPath,
            const std::string & what,
-           itk::Command *      observer)
+           itk::Command *      observer,
+           bool                compress = true)
 {
   auto writer = itk::ImageFileWriter<TImage>::New();
   writer->SetInput(image);
   writer->SetFileName(path);
-  writer->UseCompressionOn();
+  writer->SetUseCompression(compress);
   if (observer)
   {
     writer->AddObserver(itk::ProgressEvent(), observer);

@@ -21,6 +21,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #ifdef _WIN32
@@ -331,4 +333,84 @@ BackgroundProgram::ReadLine(std::chrono::milliseconds timeout)
   return text;
 }
 #endif
+
+namespace
+{
+/** The number after \a key in a "key: number unit" file such as /proc/self/status, in bytes
+ * (the unit is kB), or 0. */
+std::uint64_t
+KilobytesField(const char * path, const std::string & key)
+{
+  std::ifstream file(path);
+  std::string   line;
+  while (std::getline(file, line))
+  {
+    if (line.compare(0, key.size(), key) == 0)
+    {
+      std::istringstream fields(line.substr(key.size()));
+      std::uint64_t      kilobytes = 0;
+      fields >> kilobytes;
+      return kilobytes * 1024;
+    }
+  }
+  return 0;
+}
+} // namespace
+
+std::uint64_t
+PeakResidentBytes()
+{
+  return KilobytesField("/proc/self/status", "VmHWM:");
+}
+
+namespace
+{
+/** The first number in the file at \a path, or 0 (none, or "max"). */
+std::uint64_t
+NumberIn(const std::string & path)
+{
+  std::ifstream file(path);
+  std::uint64_t value = 0;
+  file >> value;
+  return file ? value : 0;
+}
+} // namespace
+
+std::uint64_t
+AvailableMemoryBytes()
+{
+  std::uint64_t available = KilobytesField("/proc/meminfo", "MemAvailable:");
+  // A memory limit of this process's control group (a container, a batch job) counts too.
+  std::ifstream groups("/proc/self/cgroup");
+  std::string   line;
+  while (std::getline(groups, line))
+  {
+    const auto colon = line.find(':');
+    const auto path = line.find(':', colon + 1);
+    if (colon == std::string::npos || path == std::string::npos)
+    {
+      continue;
+    }
+    const std::string controllers = line.substr(colon + 1, path - colon - 1);
+    const std::string group = line.substr(path + 1);
+    std::uint64_t     limit = 0;
+    std::uint64_t     usage = 0;
+    if (controllers == "memory")
+    {
+      limit = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.limit_in_bytes");
+      usage = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.usage_in_bytes");
+    }
+    else if (controllers.empty())
+    {
+      limit = NumberIn("/sys/fs/cgroup" + group + "/memory.max");
+      usage = NumberIn("/sys/fs/cgroup" + group + "/memory.current");
+    }
+    if (limit > 0 && limit < (std::uint64_t{ 1 } << 60))
+    {
+      const std::uint64_t room = limit > usage ? limit - usage : 0;
+      available = available == 0 ? room : std::min(available, room);
+    }
+  }
+  return available;
+}
 } // namespace sic

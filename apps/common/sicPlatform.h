@@ -27,6 +27,7 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <cstdint>
 #include <vector>
 
 namespace sic
@@ -36,6 +37,16 @@ namespace sic
  * and sets \a error. */
 std::filesystem::path
 CreateUniqueDirectory(const std::filesystem::path & parent, const std::string & prefix, std::error_code & error);
+
+/** The most memory this process has held at once (its peak resident set), in bytes, or 0 where
+ * the system does not tell. */
+std::uint64_t
+PeakResidentBytes();
+
+/** The memory the system could give this process now without swapping (Linux: MemAvailable), in
+ * bytes, or 0 where the system does not tell. */
+std::uint64_t
+AvailableMemoryBytes();
 
 /** Whether the standard error stream is a terminal (where a progress bar can be redrawn). */
 bool

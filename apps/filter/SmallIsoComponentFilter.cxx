@@ -25,11 +25,15 @@
 #include "sicProgressReporter.h"
 #include "sicScalarImageDispatch.h"
 #include "sicSlicerDescription.h"
+#include "sicPlatform.h"
 #include "sicStagedOutputs.h"
+#include "sicStreamedFilter.h"
+#include "sicStreamedImageFiles.h"
 #include "sicToolError.h"
 #include "sicToolMain.h"
 
 #include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentBlockSummary.h"
 
 #ifdef SIC_HAVE_VTK
 #  include "sicHeadlessDisplay.h"
@@ -61,7 +65,7 @@ DescribeTool()
 #ifdef SIC_HAVE_VTK
                "[--surface FILE] [--surface-before FILE] [--render FILE.png] "
 #endif
-               "[--threads N] [--quiet] [--progress-xml] [--xml] [--help]";
+               "[--memory-limit BYTES] [--no-compression] [--threads N] [--quiet] [--progress-xml] [--xml] [--help]";
   tool.Description =
     "Removes the small connected components that noise leaves on either side of an isovalue S: specks of voxels "
     ">= S floating outside an object and bubbles of voxels < S inside it. Only the voxels of those components "
@@ -196,6 +200,22 @@ DescribeTool()
   render.Slicer.Channel = "output";
   render.Slicer.FileExtensions = ".png";
 #endif
+  Option memoryLimit{ "--memory-limit",
+                      "BYTES",
+                      "Filter the image plane by plane along its last axis, holding at most about BYTES of memory "
+                      "(a number with an optional suffix K, M, G or T, powers of 1024: 512M, 8G): for volumes "
+                      "larger than memory. The output, mask and statistics are exactly those of the in-memory "
+                      "run. Needs MetaImage (.mha, .mhd) or NRRD (.nrrd, .nhdr) input and outputs; the isosurface "
+                      "options need the whole volume and cannot be combined with it. Without it, the tool streams "
+                      "by itself, within three quarters of the available memory, when the input would not fit.",
+                      "the whole image in memory, unless it does not fit",
+                      {} };
+  Option noCompression{ "--no-compression",
+                        "",
+                        "Write the outputs uncompressed (faster for large volumes; .mhd and .nhdr then write .raw "
+                        "data files).",
+                        "compressed where the format allows",
+                        {} };
   Option threads{ "--threads",
                   "N",
                   "Number of ITK work units to use (the filter runs at most one thread per core); 0 uses ITK's "
@@ -231,6 +251,8 @@ DescribeTool()
     surfaceBefore,
     render,
 #endif
+    memoryLimit,
+    noCompression,
     threads,
     quiet,
     progressXml,
@@ -311,6 +333,11 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
 #endif
   sic::CheckPathsNotEmpty(arguments, { "--removed-mask", "--stats", "--surface", "--surface-before", "--render" });
   settings.Threads = sic::ParseThreads(arguments);
+  if (arguments.Has("--memory-limit"))
+  {
+    settings.MemoryLimit = sic::ParseByteCount(arguments.Value("--memory-limit"), "--memory-limit");
+  }
+  settings.Compress = !arguments.Has("--no-compression");
   settings.Quiet = arguments.Has("--quiet");
   settings.ProgressXml = arguments.Has("--progress-xml");
   return settings;
@@ -479,12 +506,17 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
 #endif
 
   progress.Stage("writing " + settings.Output, 0.95, settings.RemovedMask.empty() ? 1.0 : 0.98);
-  sic::WriteImage(filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer());
+  sic::WriteImage(
+    filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer(), settings.Compress);
   if (!settings.RemovedMask.empty())
   {
     progress.Stage("writing " + settings.RemovedMask, 0.98, 1.0);
-    sic::WriteImage(
-      filter->GetRemovedMask(), staged.RemovedMask, settings.RemovedMask, "removed-voxel mask", progress.Observer());
+    sic::WriteImage(filter->GetRemovedMask(),
+                    staged.RemovedMask,
+                    settings.RemovedMask,
+                    "removed-voxel mask",
+                    progress.Observer(),
+                    settings.Compress);
   }
 
   report.EffectiveMaximumSize = filter->GetEffectiveMaximumComponentSize();
@@ -496,6 +528,107 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   report.UnrepairableVoxels = filter->GetNumberOfUnrepairableVoxels();
   report.PeakExtraBytes = filter->GetPeakExtraMemoryInBytes();
   report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
+  return report;
+}
+
+/** The memory limit to stream under: --memory-limit, or three quarters of the available memory when
+ * the input would not fit in it and every file streams; 0 to filter in memory. */
+std::uint64_t
+StreamingLimit(const sic::FilterSettings & settings, const sic::ScalarImageInfo & info)
+{
+  const bool streamable = sic::IsStreamableImageFile(settings.Input) && sic::IsStreamableImageFile(settings.Output) &&
+                          (settings.RemovedMask.empty() || sic::IsStreamableImageFile(settings.RemovedMask));
+  const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
+  if (settings.MemoryLimit > 0)
+  {
+    if (!streamable)
+    {
+      throw sic::ToolError("--memory-limit needs an input and outputs that stream: " + sic::StreamableFormats());
+    }
+    if (surfaces)
+    {
+      throw sic::ToolError("--surface, --surface-before and --render need the whole volume in memory; they cannot be "
+                           "combined with --memory-limit");
+    }
+    return settings.MemoryLimit;
+  }
+  // In memory the image is filtered in place: its voxels, the mask if asked for, and a fraction of
+  // a byte per voxel beyond.
+  std::uint64_t voxels = 1;
+  for (const auto size : info.Size)
+  {
+    voxels *= size;
+  }
+  sic::VolumeGeometry geometry;
+  geometry.ComponentType = info.ComponentType;
+  const std::uint64_t needed =
+    voxels * geometry.PixelBytes() + (settings.RemovedMask.empty() ? 0 : voxels) + voxels / 2;
+  const std::uint64_t available = sic::AvailableMemoryBytes();
+  if (available > 0 && needed > available && streamable && !surfaces)
+  {
+    return available / 4 * 3;
+  }
+  return 0;
+}
+
+/** The streaming mode: the image read, filtered and written plane by plane within \a limit bytes. */
+sic::FilterReport
+FilterStreamed(const sic::FilterSettings & settings,
+               const StagedPaths &         staged,
+               std::uint64_t               limit,
+               sic::ProgressReporter &     progress)
+{
+  sic::PlaneReader            input(settings.Input, "input");
+  const sic::VolumeGeometry & geometry = input.GetGeometry();
+  std::uint64_t               maximumSize = settings.MaximumSize;
+  if (settings.UsesVolume())
+  {
+    double voxelVolume = 1.0;
+    for (const double spacing : geometry.Spacing)
+    {
+      voxelVolume *= spacing;
+    }
+    maximumSize =
+      itk::SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(*settings.MaximumVolume, voxelVolume);
+  }
+  // What the process holds already (libraries, the tool) is not the sweep's to use.
+  const std::uint64_t baseline = sic::PeakResidentBytes();
+  const std::uint64_t budget = limit > baseline ? limit - baseline : 0;
+  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, maximumSize, budget);
+  if (slabPlanes == 0)
+  {
+    const std::uint64_t needed = baseline + sic::StreamingWorkingBytes(geometry, maximumSize, 1);
+    throw sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
+                         " MiB is too small to stream this image with K = " + std::to_string(maximumSize) +
+                         ": it needs about " + std::to_string((needed >> 20) + 1) + " MiB (a window of " +
+                         std::to_string(2 * maximumSize + 6) + " planes of " + std::to_string(geometry.PlaneVoxels()) +
+                         " voxels); expected a larger limit or a smaller K");
+  }
+  if (!settings.Compress)
+  {
+    // Uncompressed outputs have a known size: make sure the disk has room before the long run.
+    std::uint64_t bytes = geometry.PlaneVoxels() * geometry.Planes() * geometry.PixelBytes();
+    bytes += settings.RemovedMask.empty() ? 0 : geometry.PlaneVoxels() * geometry.Planes();
+    std::error_code error;
+    const auto      space = std::filesystem::space(std::filesystem::path(staged.Image).parent_path(), error);
+    if (!error && space.available < bytes)
+    {
+      throw sic::ToolError("cannot write the outputs: they take " + std::to_string(bytes >> 20) +
+                           " MiB and the disk has " + std::to_string(space.available >> 20) + " MiB free");
+    }
+  }
+  progress.Stage("removing small components plane by plane", 0.0, 1.0);
+  sic::FilterReport report;
+  sic::RunStreamedFilter(
+    input,
+    settings,
+    { staged.Image, staged.RemovedMask },
+    maximumSize,
+    slabPlanes,
+    [&](double done) { progress.Update(done); },
+    report);
+  report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  report.MemoryLimit = limit;
   return report;
 }
 
@@ -554,8 +687,18 @@ Run(const sic::FilterSettings & settings)
           << " at isovalue " << settings.IsoValue;
   sic::ProgressReporter progress(
     sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml), ToolName, comment.str());
-  sic::FilterReport report = sic::DispatchScalarImage(
-    info, [&](auto tag) { return FilterImage<typename decltype(tag)::ImageType>(settings, staged, progress); });
+  sic::FilterReport   report;
+  const std::uint64_t limit = StreamingLimit(settings, info);
+  if (limit > 0)
+  {
+    report = FilterStreamed(settings, staged, limit, progress);
+  }
+  else
+  {
+    report = sic::DispatchScalarImage(
+      info, [&](auto tag) { return FilterImage<typename decltype(tag)::ImageType>(settings, staged, progress); });
+  }
+  report.PeakResidentBytes = sic::PeakResidentBytes();
   report.Input = info;
   report.TotalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -100,6 +100,21 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
   text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total " << report.TotalSeconds
        << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (") << report.WorkUnits
        << (report.WorkUnits == 1 ? " work unit)." : " work units).");
+  const auto megabytes = [](std::uint64_t bytes) { return std::to_string((bytes + (1 << 19)) >> 20) + " MiB"; };
+  if (report.Streaming)
+  {
+    text << " Streamed in slabs of " << report.SlabPlanes << (report.SlabPlanes == 1 ? " plane" : " planes")
+         << " (reading " << report.ReadSeconds << " s, writing " << report.WriteSeconds << " s)";
+    if (report.MemoryLimit > 0)
+    {
+      text << " under a memory limit of " << megabytes(report.MemoryLimit);
+    }
+    text << ".";
+  }
+  if (report.PeakResidentBytes > 0)
+  {
+    text << " Peak memory " << megabytes(report.PeakResidentBytes) << ".";
+  }
   out << text.str() << std::endl;
 }
 
@@ -183,6 +198,23 @@ WriteStatisticsJson(std::ostream &         out,
   json.Key("seconds").Number(report.FilterSeconds);
   json.Key("total_seconds").Number(report.TotalSeconds);
   json.Key("peak_extra_bytes").Number(report.PeakExtraBytes);
+  json.Key("mode").String(report.Streaming ? "streaming" : "in-memory");
+  json.Key("memory_limit_bytes");
+  if (report.MemoryLimit > 0)
+  {
+    json.Number(report.MemoryLimit);
+  }
+  else
+  {
+    json.Null();
+  }
+  if (report.Streaming)
+  {
+    json.Key("slab_planes").Number(report.SlabPlanes);
+    json.Key("read_seconds").Number(report.ReadSeconds);
+    json.Key("write_seconds").Number(report.WriteSeconds);
+  }
+  json.Key("peak_resident_bytes").Number(report.PeakResidentBytes);
   for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &report.SurfacePiecesBefore),
                                       std::make_pair("surface_components_after", &report.SurfacePiecesAfter),
                                       std::make_pair("removed_surface_components", &report.RemovedSurfacePieces) })

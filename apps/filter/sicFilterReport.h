@@ -52,6 +52,10 @@ struct FilterSettings
   std::uint64_t Threads{ 0 };
   bool          Quiet{ false };
   bool          ProgressXml{ false };
+  /** --memory-limit in bytes (0: none given). */
+  std::uint64_t MemoryLimit{ 0 };
+  /** Whether the outputs are compressed where their format allows (--no-compression: not). */
+  bool Compress{ true };
 
   bool
   UsesVolume() const
@@ -91,6 +95,15 @@ struct FilterReport
   /** Wall time of the filter itself, and of the whole run (reading and writing included). */
   double FilterSeconds{ 0.0 };
   double TotalSeconds{ 0.0 };
+  /** Streamed plane by plane (--memory-limit, or an input too large for memory), in slabs of
+   * SlabPlanes planes under MemoryLimit bytes; then the time spent reading and writing. */
+  bool          Streaming{ false };
+  std::uint64_t MemoryLimit{ 0 };
+  std::uint64_t SlabPlanes{ 0 };
+  double        ReadSeconds{ 0.0 };
+  double        WriteSeconds{ 0.0 };
+  /** The most memory the process held at once (0 where the system does not tell). */
+  std::uint64_t PeakResidentBytes{ 0 };
 };
 
 /** A one-paragraph summary for a person. */

@@ -38,7 +38,7 @@ DescribeTool()
 {
   sic::ToolDescription tool;
   tool.Name = ToolName;
-  tool.Usage = "SmallIsoComponentPhantom OUTPUT_DIR_OR_FILE [--size N] [--seed S] [--help]";
+  tool.Usage = "SmallIsoComponentPhantom OUTPUT_DIR_OR_FILE [--size N] [--seed S] [--no-compression] [--help]";
   tool.Description =
     "Writes a synthetic CT-like volume (int16, Hounsfield-like units, spacing 0.8 x 0.8 x 1.0 mm): air (-1000) "
     "around an ellipsoidal body of soft tissue (40) holding a dense shell (700) with marrow (60) inside and a "
@@ -54,6 +54,11 @@ DescribeTool()
   tool.Options = {
     { "--size", "N", "The volume has N x N x N voxels (8 to 1024).", "96", {} },
     { "--seed", "S", "Seed of the pseudo-random noise, specks and bubbles (a whole number).", "1", {} },
+    { "--no-compression",
+      "",
+      "Write the volume uncompressed (faster for large sizes; .mhd and .nhdr then write .raw data files).",
+      "compressed where the format allows",
+      {} },
     { "--help", "", "Print this help and exit (also -h).", "", {} },
   };
   tool.Epilogue = "Exit status: 0 success; 1 the work failed (e.g. out of memory); 2 a wrong command line or an\n"
@@ -91,7 +96,7 @@ Run(const sic::ToolDescription & tool, const sic::ParsedCommandLine & arguments)
   sic::CheckImageFileFormat(path, "phantom", 3);
 
   const sic::PhantomImageType::Pointer phantom = sic::MakePhantom(static_cast<unsigned int>(size), seed);
-  sic::WriteImage(phantom.GetPointer(), staged, path, "phantom", nullptr);
+  sic::WriteImage(phantom.GetPointer(), staged, path, "phantom", nullptr, !arguments.Has("--no-compression"));
   outputs.Commit();
   std::cout << "Wrote " << path << ": " << size << "x" << size << "x" << size << " int16 phantom, seed " << seed
             << "; suggested isovalue " << sic::PhantomSuggestedIsoValue << "." << std::endl;

@@ -36,10 +36,12 @@ namespace
 {
 using ImageType = itk::Image<int16_t, 3>;
 
+/** A file of this test's own (ctest runs the tests of this file at the same time). */
 std::filesystem::path
 Scratch(const std::string & name)
 {
-  const auto directory = std::filesystem::temp_directory_path() / "sicStreamedImageFilesTest";
+  const auto directory = std::filesystem::temp_directory_path() / "sicStreamedImageFilesTest" /
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name();
   std::filesystem::create_directories(directory);
   return directory / name;
 }
