@@ -92,9 +92,10 @@ main(int argc, char * argv[])
                 << ", \"tag\": " << Json(parameter.GetTag()) << ", \"name\": " << Json(parameter.GetName())
                 << ", \"flag\": " << Json(parameter.GetFlag()) << ", \"longflag\": " << Json(parameter.GetLongFlag())
                 << ", \"label\": " << Json(parameter.GetLabel()) << ", \"default\": " << Json(parameter.GetDefault())
-                << ", \"minimum\": " << Json(parameter.GetMinimum()) << ", \"maximum\": " << Json(parameter.GetMaximum())
-                << ", \"step\": " << Json(parameter.GetStep()) << ", \"channel\": " << Json(parameter.GetChannel())
-                << ", \"index\": " << Json(parameter.GetIndex()) << ", \"hidden\": " << Json(parameter.GetHidden())
+                << ", \"minimum\": " << Json(parameter.GetMinimum())
+                << ", \"maximum\": " << Json(parameter.GetMaximum()) << ", \"step\": " << Json(parameter.GetStep())
+                << ", \"channel\": " << Json(parameter.GetChannel()) << ", \"index\": " << Json(parameter.GetIndex())
+                << ", \"hidden\": " << Json(parameter.GetHidden())
                 << ", \"multiple\": " << Json(parameter.GetMultiple()) << ", \"elements\": [";
       bool firstElement = true;
       for (const auto & element : parameter.GetElements())
