@@ -1,0 +1,10 @@
+"""smalliso: removes the small specks and bubbles on either side of an isovalue from NumPy
+arrays, changing only the voxels that make them, so that an isosurface extracted afterwards has
+no tiny pieces: ``smalliso.remove_small_components(array, isovalue, ...)``.
+"""
+
+from ._core import pixel_types
+from ._numpy import remove_small_components
+
+__version__ = "0.1.0"
+__all__ = ["pixel_types", "remove_small_components"]
