@@ -1,6 +1,10 @@
-"""smalliso: removes the small specks and bubbles on either side of an isovalue from NumPy
-arrays, changing only the voxels that make them, so that an isosurface extracted afterwards has
-no tiny pieces: ``smalliso.remove_small_components(array, isovalue, ...)``.
+"""smalliso: removes the small specks and bubbles on either side of an isovalue from NumPy and
+Dask arrays, changing only the voxels that make them, so that an isosurface extracted afterwards
+has no tiny pieces.
+
+* ``smalliso.remove_small_components(array, isovalue, ...)``: a NumPy array, in memory.
+* ``smalliso.dask.remove_small_components(dask_array, isovalue, ...)``: a Dask array, chunk by
+  chunk, with the same result voxel for voxel.
 """
 
 from ._core import pixel_types
