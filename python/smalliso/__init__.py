@@ -4,7 +4,7 @@ has no tiny pieces.
 
 * ``smalliso.remove_small_components(array, isovalue, ...)``: a NumPy array, in memory.
 * ``smalliso.dask.remove_small_components(dask_array, isovalue, ...)``: a Dask array, chunk by
-  chunk, with the same result voxel for voxel.
+  chunk, with the same result voxel for voxel (``python3 -m smalliso.dask`` filters Zarr arrays).
 """
 
 from ._core import pixel_types

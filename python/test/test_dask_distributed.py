@@ -1,9 +1,10 @@
 """smalliso.dask on a dask.distributed cluster of two worker processes: the in-memory result and
-statistics."""
+statistics, and a Zarr array filtered through a client."""
 
 import dask.array as da
 import numpy as np
 import pytest
+import zarr
 from distributed import Client, LocalCluster, get_task_stream
 
 import smalliso
@@ -37,3 +38,12 @@ def check_on_cluster(client, seed, dtype, side):
     assert same_bits(output, expected) and same_bits(mask, expected_mask)
     assert stats == without_memory(expected_stats)
 
+
+def test_a_zarr_array_through_the_client(client, tmp_path):
+    volume, isovalue = random_volume(np.random.default_rng(9), "float64", (12, 13, 11))
+    zarr.save_array(str(tmp_path / "in.zarr"), volume, chunks=(4, 5, 6))
+    stats = smalliso.dask.remove_small_components_zarr(tmp_path / "in.zarr", tmp_path / "out.zarr", isovalue, 3,
+                                                       client=client)
+    expected, expected_stats = smalliso.remove_small_components(volume, isovalue, 3, return_stats=True)
+    assert same_bits(zarr.open_array(str(tmp_path / "out.zarr"), mode="r")[...], expected)
+    assert stats == without_memory(expected_stats)
