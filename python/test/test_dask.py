@@ -5,6 +5,7 @@ import dask
 import dask.array as da
 import numpy as np
 import pytest
+import zarr
 
 import smalliso
 import smalliso.dask
@@ -24,15 +25,18 @@ def random_chunks(rng, shape):
     return tuple(chunks)
 
 
-def check_case(volume, isovalue, max_size, side, fully_connected, chunks, scheduler="synchronous"):
+def check_case(volume, isovalue, max_size, side, fully_connected, chunks, scheduler="synchronous", stored=False):
+    """Compares with the in-memory result: a Dask array of ``chunks``, or with ``stored`` a Zarr
+    array (in memory) of regular chunks of the first size along each axis, read box by box."""
     expected, expected_mask, expected_stats = smalliso.remove_small_components(
         volume, isovalue, max_size, side, fully_connected, return_mask=True, return_stats=True)
+    chunks = da.core.normalize_chunks(chunks, volume.shape)
+    source = zarr.array(volume, chunks=[c[0] for c in chunks]) if stored else da.from_array(volume, chunks=chunks)
     output, mask, stats = smalliso.dask.remove_small_components(
-        da.from_array(volume, chunks=chunks), isovalue, max_size, side, fully_connected, return_mask=True,
-        return_stats=True)
+        source, isovalue, max_size, side, fully_connected, return_mask=True, return_stats=True)
     output, mask, stats = dask.compute(output, mask, stats, scheduler=scheduler)
-    case = (f"{volume.dtype} shape {volume.shape} chunks {chunks} K={max_size} {side} fully={fully_connected} "
-            f"isovalue={isovalue}")
+    case = (f"{volume.dtype} shape {volume.shape} chunks {chunks} stored={stored} K={max_size} {side} "
+            f"fully={fully_connected} isovalue={isovalue}")
     assert same_bits(output, expected), case
     assert same_bits(mask, expected_mask), case
     assert stats == without_memory(expected_stats), case
@@ -47,7 +51,8 @@ def test_random_volumes_and_chunkings_match_the_in_memory_result(first):
         volume, isovalue = random_volume(rng, DTYPES[seed % len(DTYPES)], shape)
         max_size = int(rng.choice([0, 1, 2, 3, 5, volume.size + 3]))
         side = ("above", "below", "both")[seed % 3 if seed % 7 else 2]
-        check_case(volume, isovalue, max_size, side, bool(rng.integers(2)), random_chunks(rng, shape))
+        check_case(volume, isovalue, max_size, side, bool(rng.integers(2)), random_chunks(rng, shape),
+                   stored=seed % 5 == 4)
 
 
 def test_chunks_of_one_voxel():
@@ -85,8 +90,8 @@ def test_bubbles_in_specks_across_chunk_faces():
 def test_the_local_schedulers():
     rng = np.random.default_rng(2000)
     volume, isovalue = random_volume(rng, "float64", (10, 12, 14))
-    for scheduler in ("threads", "processes"):
-        check_case(volume, isovalue, 4, "both", False, (4, 5, 6), scheduler=scheduler)
+    for scheduler, stored in (("threads", True), ("threads", False), ("processes", False)):
+        check_case(volume, isovalue, 4, "both", False, (4, 5, 6), scheduler, stored)
 
 
 def test_threads_in_each_task_and_a_numpy_input():
@@ -97,6 +102,16 @@ def test_threads_in_each_task_and_a_numpy_input():
     assert same_bits(result, expected)
     chunked = smalliso.dask.remove_small_components(da.from_array(volume, chunks=5), isovalue, 6, threads=2)
     assert same_bits(chunked.compute(scheduler="threads"), expected)
+
+
+def test_chunks_rechunks_a_dask_array_and_sets_the_tasks_of_a_stored_one():
+    rng = np.random.default_rng(3500)
+    volume, isovalue = random_volume(rng, "float32", (11, 12, 13))
+    expected = smalliso.remove_small_components(volume, isovalue, 4)
+    for source in (da.from_array(volume, chunks=3), zarr.array(volume, chunks=(2, 3, 4))):
+        result = smalliso.dask.remove_small_components(source, isovalue, 4, chunks=(4, 6, 8))
+        assert result.chunks == da.core.normalize_chunks((4, 6, 8), volume.shape)
+        assert same_bits(result.compute(scheduler="synchronous"), expected)
 
 
 def test_max_volume_gives_the_in_memory_k():
@@ -123,6 +138,31 @@ def test_the_result_keeps_the_chunks_and_no_task_holds_more_than_two_summaries()
     # A tree of pairwise merges over n leaves has n - 1 merges of two summaries each.
     assert len(summaries) == 4 * 3 * 3 and len(merges) == len(summaries) - 1
     assert all(len(task) == 3 for task in merges)
+
+
+def test_each_chunk_is_filtered_once_when_the_parts_are_computed_together(monkeypatch, tmp_path):
+    calls = []
+
+    def counted(plan, pieces, original=smalliso.dask._graph._filter_box):
+        calls.append(plan.crop_begin)
+        return original(plan, pieces)
+
+    monkeypatch.setattr(smalliso.dask._graph, "_filter_box", counted)
+    volume, isovalue = random_volume(np.random.default_rng(5000), "uint8", (9, 10, 11))
+    x = da.from_array(volume, chunks=4)
+    chunks = x.npartitions
+    for asked in ((True, True), (False, True), (True, False)):
+        parts = smalliso.dask.remove_small_components(x, isovalue, 3, return_mask=asked[0], return_stats=True)
+        for together in (parts, parts[-1:]) if asked[1] else (parts,):
+            calls.clear()
+            dask.compute(*together, scheduler="synchronous")
+            assert len(calls) == chunks, (asked, len(together))
+    calls.clear()
+    zarr.save_array(str(tmp_path / "in.zarr"), volume, chunks=4)
+    with dask.config.set(scheduler="synchronous"):
+        smalliso.dask.remove_small_components_zarr(tmp_path / "in.zarr", tmp_path / "out.zarr", isovalue, 3,
+                                                   removed_mask=tmp_path / "mask.zarr")
+    assert len(calls) == chunks
 
 
 @pytest.mark.parametrize("arguments, error, message", [

@@ -46,6 +46,20 @@ def test_round_trip_keeps_chunks_compressor_and_attributes(tmp_path):
     assert leftovers(tmp_path) == []
 
 
+def test_tasks_of_several_stored_chunks(tmp_path):
+    volume, isovalue = random_volume(np.random.default_rng(4), "int16", (13, 14, 15))
+    save(tmp_path / "in.zarr", volume, (2, 3, 4))
+    smalliso.dask.remove_small_components_zarr(tmp_path / "in.zarr", tmp_path / "out.zarr", isovalue, 5,
+                                               chunks=(4, 6, 8))
+    output = zarr.open_array(str(tmp_path / "out.zarr"), mode="r")
+    assert output.chunks == (2, 3, 4)
+    assert same_bits(output[...], smalliso.remove_small_components(volume, isovalue, 5))
+    with pytest.raises(ValueError, match=r"must be whole multiples of the stored chunks \(2, 3, 4\)"):
+        smalliso.dask.remove_small_components_zarr(tmp_path / "in.zarr", tmp_path / "other.zarr", isovalue, 5,
+                                                   chunks=(4, 5, 8))
+    assert not (tmp_path / "other.zarr").exists() and leftovers(tmp_path) == []
+
+
 def test_an_existing_output_is_replaced_only_when_the_new_one_is_complete(tmp_path):
     volume, isovalue = random_volume(np.random.default_rng(2), "uint8", (8, 9, 10))
     save(tmp_path / "in.zarr", volume, (3, 3, 3))

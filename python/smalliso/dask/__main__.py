@@ -10,6 +10,7 @@ import time
 
 import dask
 import zarr
+from dask.array.core import normalize_chunks
 
 import smalliso
 
@@ -24,6 +25,16 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message):
         self.exit(2, f"{TOOL}: error: {message} (see --help)\n")
+
+
+def _chunk_sizes(text):
+    try:
+        sizes = tuple(int(size) for size in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a list of whole numbers such as 256 or 64,256,256")
+    if any(size < 1 for size in sizes):
+        raise argparse.ArgumentTypeError(f"{text!r}: chunk edges must be >= 1")
+    return sizes[0] if len(sizes) == 1 else sizes
 
 
 def _parser():
@@ -53,6 +64,10 @@ def _parser():
     parser.add_argument("--scheduler", metavar="ADDRESS", default="threads",
                         help="threads, processes or synchronous (Dask's local schedulers), or the address of a "
                              "dask.distributed scheduler such as tcp://host:8786 (default threads)")
+    parser.add_argument("--chunks", metavar="N[,N...]", type=_chunk_sizes,
+                        help="the tasks' chunks, one edge for every axis or one per axis (NumPy order): whole "
+                             "multiples of the input's stored chunks (default the stored chunks); each task reads "
+                             "every stored chunk its chunk and halo overlap, so larger tasks read less twice")
     parser.add_argument("--threads", metavar="N", type=int, default=1,
                         help="threads of each task's C++ code (default 1: Dask runs the tasks in parallel)")
     parser.add_argument("--stats", metavar="FILE.json",
@@ -76,7 +91,8 @@ def _statistics_json(arguments, info, stats, seconds, total_seconds):
         "parameters": {"isovalue": arguments.isovalue, "max_size": arguments.max_size,
                        "effective_max_size": stats["effective_max_size"], "side": arguments.side,
                        "connectivity": "full" if arguments.fully_connected else "face",
-                       "scheduler": arguments.scheduler, "threads": arguments.threads},
+                       "scheduler": arguments.scheduler, "threads": arguments.threads,
+                       "chunks": list(reversed(info["task_chunks"]))},
         "statistics": {"above": side(stats["above"]), "below": side(stats["below"]),
                        "modified_voxels": stats["modified_voxels"],
                        "unrepairable_voxels": stats["unrepairable_voxels"],
@@ -151,10 +167,12 @@ def main(argv=None):
             stats = remove_small_components_zarr(
                 arguments.input, arguments.output, arguments.isovalue, arguments.max_size, arguments.side,
                 arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
-                progress=not arguments.quiet, threads=arguments.threads)
+                progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
             seconds = time.perf_counter() - begin
         stored = zarr.open_array(arguments.input, mode="r")
-        info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks)}
+        info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
+                "task_chunks": [extents[0] for extents in normalize_chunks(
+                    stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
         if arguments.stats is not None:
             _write_json_atomically(arguments.stats,
                                    _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start))

@@ -15,20 +15,23 @@ from ._graph import remove_small_components
 
 def remove_small_components_zarr(source, target, isovalue, max_size=20, side="both", fully_connected=False, *,
                                  max_volume=None, spacing=None, removed_mask=None, client=None, progress=False,
-                                 threads=1):
+                                 threads=1, chunks=None):
     """Filters the Zarr array at ``source`` (a directory store) into a new Zarr array at ``target``
     with the same shape, chunks, dtype, compressor and attributes, and returns the statistics (the
     dict of ``smalliso.dask.remove_small_components``).
 
-    The parameters are those of ``smalliso.dask.remove_small_components``. ``removed_mask``, if
-    given, is the path of a second Zarr array to write the mask of the changed voxels to.
+    The parameters are those of ``smalliso.dask.remove_small_components``; ``chunks`` (the tasks')
+    must be whole multiples of the stored chunks, so that no two tasks write one stored chunk.
+    ``removed_mask``, if given, is the path of a second Zarr array to write the mask of the changed
+    voxels to.
     ``client``, a ``distributed.Client``, runs the work on its cluster; otherwise Dask's current
     scheduler does (the threaded one unless configured otherwise). ``progress`` shows a progress
     bar (``dask.diagnostics.ProgressBar`` on stderr, or ``distributed.progress`` with a client).
 
-    Every output is written chunk by chunk by the tasks into a temporary directory beside it and
-    renamed into place only when all of them are complete (replacing an existing one), so a failure
-    leaves no half-written array behind.
+    Each task reads its chunk and halo from ``source`` itself, so a worker holds only the few
+    chunks of the tasks it runs. Every output is written chunk by chunk by the tasks into a
+    temporary directory beside it and renamed into place only when all of them are complete
+    (replacing an existing one), so a failure leaves no half-written array behind.
     """
     source = os.fspath(source)
     outputs = [os.fspath(target)] + ([os.fspath(removed_mask)] if removed_mask is not None else [])
@@ -44,9 +47,13 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
         if not os.path.isdir(parent):
             raise ValueError(f"cannot write {path!r}: its directory {parent!r} does not exist")
 
-    parts = remove_small_components(da.from_zarr(stored), isovalue, max_size, side, fully_connected,
+    parts = remove_small_components(stored, isovalue, max_size, side, fully_connected,
                                     max_volume=max_volume, spacing=spacing, return_mask=removed_mask is not None,
-                                    return_stats=True, threads=threads)
+                                    return_stats=True, threads=threads, chunks=chunks)
+    for extents, stored_extent in zip(parts[0].chunks, stored.chunks):
+        if any(extent % stored_extent for extent in extents[:-1]):
+            raise ValueError(f"the tasks' chunks {parts[0].chunksize} must be whole multiples of the stored chunks "
+                             f"{stored.chunks}, so that no two tasks write one stored chunk")
     arrays, stats = parts[:-1], parts[-1]
     staged = []
     try:
@@ -61,8 +68,10 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
             if index == 0:
                 written.attrs.update(stored.attrs.asdict())
             targets.append(written)
-        stores = da.store(list(arrays), targets, lock=False, compute=False)
-        statistics = _compute(stores, stats, client, progress)
+        # Unfused, the stores' graph and the statistics' share the chunks' filter tasks.
+        with dask.config.set({"optimization.fuse.active": False}):
+            stores = da.store(list(arrays), targets, lock=False, compute=False)
+            statistics = _compute(stores, stats, client, progress)
         for staging, path in zip(staged, outputs):
             _replace(staging, path)
     except BaseException:
