@@ -16,6 +16,9 @@ packages=(
   gnuplot-nox             # SmallIsoComponentReport --plot
   libvtk9-dev libx11-dev  # isosurfaces, piece counts and --render (optional for the module)
   xvfb libgl1-mesa-dri    # off-screen rendering on a machine without a display
+  # The smalliso Python package (NumPy and Dask), its tests and its benchmark
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-dask python3-distributed python3-zarr python3-skimage
 )
 
 missing=()
@@ -47,7 +50,9 @@ else
 fi
 
 echo "setup: configuring and building in $build"
+# Debian's interpreter, which has Debian's Python packages (another python3 may come first on PATH).
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON \
+  -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" \
   -DSmallIsoComponent_SLICER_EXECUTION_MODEL="$sem" >"$build.configure.log" 2>&1 || {
   cat "$build.configure.log" >&2; exit 1; }
 cmake --build "$build" -j "$(nproc)"
