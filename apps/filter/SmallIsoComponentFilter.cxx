@@ -629,6 +629,13 @@ FilterStreamed(const sic::FilterSettings & settings,
     report);
   report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
   report.MemoryLimit = limit;
+  const std::uint64_t peak = sic::PeakResidentBytes();
+  if (peak > limit && !settings.Quiet)
+  {
+    std::cerr << ToolName << ": note: the run held " << (peak >> 20) << " MiB, more than the limit of " << (limit >> 20)
+              << " MiB: the image has more scanline runs than the plan assumed (about one every eight voxels)"
+              << std::endl;
+  }
   return report;
 }
 

@@ -32,9 +32,10 @@ namespace sic
 std::uint64_t
 ParseByteCount(const std::string & text, const std::string & option);
 
-/** The bytes of memory the streaming mode would hold for an image of \a geometry with slabs of
- * \a slabPlanes planes and components of at most \a maximumSize voxels (input planes of the
- * window, their run labelling at a pessimistic run density, the planes given out). */
+/** The bytes of memory the streaming mode holds for an image of \a geometry with slabs of
+ * \a slabPlanes planes and components of at most \a maximumSize voxels: the input planes of the
+ * window, their run labelling at about a byte a voxel (a run every eight voxels or fewer), the
+ * summaries' face layers and the planes being read and written. */
 std::uint64_t
 StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t slabPlanes);
 
