@@ -221,8 +221,14 @@ protected:
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
+  // ProcessObject::VerifyPreconditions() is const, except in ITK 5 builds with ITKV4_COMPATIBILITY.
+#if defined(ITKV4_COMPATIBILITY)
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() override;
+#else
+  void
+  VerifyPreconditions() const override;
+#endif
 
   /** The whole image is needed: components reach anywhere. */
   void

@@ -283,7 +283,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetComponentSizeHistogr
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions()
+#if !defined(ITKV4_COMPATIBILITY)
+  const
+#endif
 {
   Superclass::VerifyPreconditions();
   if (std::isnan(m_IsoValue))
