@@ -19,12 +19,14 @@
 #define itkSmallIsoComponentImageFilter_h
 
 #include "itkInPlaceImageFilter.h"
-#include <functional>
+#include "itkProgressTransformer.h"
+#include "itkSmallIsoComponentDeferredFill.h"
 #include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentPeakMemory.h"
 #include "itkSmallIsoComponentRunLabeling.h"
-#include "itkSmallIsoComponentThreshold.h"
 #include <map>
 #include <type_traits>
+#include <vector>
 
 namespace itk
 {
@@ -206,7 +208,11 @@ public:
   /** K used by the last Update() (from MaximumComponentVolume when that was set last). */
   itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
   /** Peak bytes the last Update() held beyond input, output and mask. */
-  itkGetConstMacro(PeakExtraMemoryInBytes, SizeValueType);
+  virtual SizeValueType
+  GetPeakExtraMemoryInBytes() const
+  {
+    return m_ExtraMemory.GetPeakInBytes();
+  }
   /** @} */
 
   using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
@@ -240,6 +246,10 @@ protected:
   GenerateData() override;
 
 private:
+  using RunLabeling = SmallIsoComponentRunLabeling;
+  using LineRun = RunLabeling::LineRun;
+  using FlipGrouping = RunLabeling::FlipGrouping;
+
   struct SideStatistics
   {
     SizeValueType              Components{ 0 };
@@ -248,40 +258,97 @@ private:
     ComponentSizeHistogramType Histogram;
   };
 
+  /** The components a pass removes: one flag per component, and their runs in run order. */
+  struct Removal
+  {
+    std::vector<uint8_t> Components;
+    std::vector<LineRun> Runs;
+  };
+
+  SideStatistics &
+  StatisticsOf(SideEnum side);
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
-  /** Copies each line of the input to the output, clears its mask line, and encodes it
-   * as runs, and returns an empty function. Large images of one pixel type are only
-   * encoded here: the copy and the clearing are left to the function returned, to be
-   * called as fill(first, end) for every range [first, end) of lines. */
-  std::function<void(SizeValueType, SizeValueType)>
-  EncodeRuns(SmallIsoComponentRunLabeling & labeling,
-             const InputImageType *         input,
-             OutputImageType *              output,
-             MaskImageType *                mask);
-
-  /** Gives every voxel of \a runs (the runs of the components selected by
-   * \a removedComponent, as SmallIsoComponentRunLabeling::CollectCandidateRuns() gives them) a
-   * value on the other side, marks it in the mask with \a maskValue, and returns the
-   * number of voxels changed. The values are read from \a source if given (a buffer
-   * that holds the output's values), else from the output. \a alongside, if given, is
-   * called for each chunk [first, last) of \a runs in the loop that computes the new
-   * values (work on the same runs, which holds \a alongsideBytes). */
+  /** \name The phases of GenerateData(), in order
+   * Each one reports what it holds at its fullest to m_ExtraMemory. */
+  /** @{ */
+  /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
-  Repair(const SmallIsoComponentRunLabeling &                       labeling,
-         const std::vector<uint8_t> &                               removedComponent,
-         const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
-         bool                                                       removedAreAbove,
-         MaskPixelType                                              maskValue,
-         OutputImageType *                                          output,
-         MaskImageType *                                            mask,
-         const OutputPixelType *                                    source = nullptr,
-         const std::function<void(SizeValueType, SizeValueType)> &  alongside = nullptr,
-         SizeValueType                                              alongsideBytes = 0);
+  ComputeEffectiveMaximumComponentSize(const typename InputImageType::SpacingType & spacing) const;
 
+  /** Encodes every line of the input as runs into \a labeling, after copying it to the
+   * output and clearing its mask line, and returns an empty fill. Large images of one
+   * pixel type are only encoded: the copy and the clearing are returned, to be done while
+   * the components are numbered. */
+  SmallIsoComponentDetail::DeferredFill
+  EncodeRuns(RunLabeling & labeling, const InputImageType * input, OutputImageType * output, MaskImageType * mask);
+
+  /** Links the touching runs of each side (what the assembly of the runs left: the seams
+   * between slabs) and numbers the components, keeping the runs of the components of at
+   * most K voxels as candidates; meanwhile the other work units do \a fill. */
   void
-  CheckAbort(float progress);
+  LinkAndNumberComponents(RunLabeling & labeling, const SmallIsoComponentDetail::DeferredFill & fill);
+
+  /** The above pass, on the input's components: decides which ones it removes and repairs
+   * them. When the below pass follows (Side Both), the removed components flip below, and
+   * \a grouping joins the below components next to them in the repair's loop. */
+  Removal
+  RemoveAbove(const RunLabeling &    labeling,
+              FlipGrouping &         grouping,
+              const InputImageType * input,
+              OutputImageType *      output,
+              MaskImageType *        mask);
+
+  /** The components of the image the below pass sees: the below components grouped
+   * through the above components that flipped (none unless the above pass of Both removed
+   * some). Decides which groups the below pass removes, frees the above pass's runs, and
+   * returns one flag per component, set for the members of the removed groups. */
+  std::vector<uint8_t>
+  GroupBelow(const RunLabeling & labeling, FlipGrouping & grouping, Removal & above);
+
+  /** The below pass: repairs the components flagged in \a removedBelow. */
+  void
+  RemoveBelow(const RunLabeling &          labeling,
+              const std::vector<uint8_t> & removedBelow,
+              OutputImageType *            output,
+              MaskImageType *              mask);
+  /** @} */
+
+  /** Counts the components of \a side in its statistics and decides which ones its pass
+   * removes: those with at most K voxels, when the pass runs and the output type has a
+   * value on the other side (else their voxels are unrepairable). sizeOf(i) is the size of
+   * entry i, or 0 for an entry that is no component of the side; one flag per entry. */
+  template <typename TSizeOf>
+  std::vector<uint8_t>
+  DecideRemovals(SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
+
+  /** The runs of the components flagged in \a removed, of \a side, in run order. */
+  std::vector<LineRun>
+  CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;
+
+  /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
+   * computed from \a before (the image before the pass), marks it in the mask, and counts
+   * it. \a joinFlipped, if given, joins the below components next to the runs in the same
+   * loop. \a heldBytes: what the caller holds meanwhile. */
+  void
+  RepairRuns(const RunLabeling &          labeling,
+             const std::vector<LineRun> & runs,
+             SideEnum                     side,
+             const OutputPixelType *      before,
+             FlipGrouping *               joinFlipped,
+             SizeValueType                heldBytes,
+             OutputImageType *            output,
+             MaskImageType *              mask);
+
+  /** Whether the above pass flips components for the below pass. */
+  bool
+  AbovePassFlips() const;
+
+  /** Completes a phase's share of the progress, then stops the update if an abort was
+   * asked for meanwhile (an observer of the progress event may ask). */
+  void
+  EndPhase(ProgressTransformer & progress);
 
   double        m_IsoValue{ 0.0 };
   SizeValueType m_MaximumComponentSize{ 20 };
@@ -290,12 +357,12 @@ private:
   SideEnum      m_Side{ SideEnum::Both };
   bool          m_FullyConnected{ false };
 
-  SideStatistics m_AboveStatistics;
-  SideStatistics m_BelowStatistics;
-  SizeValueType  m_NumberOfModifiedVoxels{ 0 };
-  SizeValueType  m_NumberOfUnrepairableVoxels{ 0 };
-  SizeValueType  m_EffectiveMaximumComponentSize{ 0 };
-  SizeValueType  m_PeakExtraMemoryInBytes{ 0 };
+  SideStatistics                      m_AboveStatistics;
+  SideStatistics                      m_BelowStatistics;
+  SizeValueType                       m_NumberOfModifiedVoxels{ 0 };
+  SizeValueType                       m_NumberOfUnrepairableVoxels{ 0 };
+  SizeValueType                       m_EffectiveMaximumComponentSize{ 0 };
+  SmallIsoComponentDetail::PeakMemory m_ExtraMemory;
 };
 } // end namespace itk
 

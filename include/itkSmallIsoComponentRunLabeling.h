@@ -295,34 +295,36 @@ public:
 
   /** The below components after the above components flagged as flipped (one flag per
    * component) have been moved below the isovalue: each flipped component joins the
-   * below components it touches, and through them other ones. Given the runs of the
-   * flipped components in run order (no run of the other components is visited; no
-   * voxel is read), JoinNeighbors() is called for every range of them (concurrently if
-   * wanted, through a lock-free union-find over components), so that the joins can share
-   * a loop with other work on the same runs; then Finish() numbers the groups. The
-   * labeling and the runs must outlive it. */
+   * below components it touches, and through them other ones. JoinNeighbors() is called
+   * for the runs of the flipped components (in any ranges, concurrently if wanted, through
+   * a lock-free union-find over components; no run of the other components is visited and
+   * no voxel is read), so that the joins can share a loop with other work on the same
+   * runs; then Finish() numbers the groups. The labeling must outlive it. */
   class SmallIsoComponent_EXPORT FlipGrouping
   {
   public:
-    FlipGrouping(const SmallIsoComponentRunLabeling & labeling, const std::vector<LineRun> & flippedRuns);
+    explicit FlipGrouping(const SmallIsoComponentRunLabeling & labeling);
     ~FlipGrouping();
     FlipGrouping(const FlipGrouping &) = delete;
     FlipGrouping &
     operator=(const FlipGrouping &) = delete;
 
-    /** Joins the components of flippedRuns[first, last) with the components of the
-     * below runs they touch. Safe to call from several threads at once. */
+    /** Joins the components of the flipped runs [first, last) (in run order) with the
+     * components of the below runs they touch. Safe to call from several threads at once. */
     void
-    JoinNeighbors(SizeValueType first, SizeValueType last);
+    JoinNeighbors(const LineRun * first, const LineRun * last);
 
-    /** After every flipped run has been joined: groupOfComponent holds the group of
-     * every below or flipped component (NoGroup for the other above components),
-     * numbered in order of their first run, and groupSize the number of voxels in each
-     * group. */
-    void
-    Finish(const std::vector<uint8_t> &      flipped,
-           std::vector<ComponentIndexType> & groupOfComponent,
-           std::vector<SizeValueType> &      groupSize);
+    /** The groups, once every flipped run has been joined. */
+    struct Groups
+    {
+      /** The group of every below or flipped component (NoGroup for the other above
+       * components), numbered in order of their first run. */
+      std::vector<ComponentIndexType> GroupOfComponent;
+      /** The number of voxels in each group. */
+      std::vector<SizeValueType> GroupSize;
+    };
+    Groups
+    Finish(const std::vector<uint8_t> & flipped);
 
     /** Bytes of scratch held. */
     SizeValueType
@@ -335,7 +337,6 @@ public:
     Join(ComponentIndexType a, ComponentIndexType b);
 
     const SmallIsoComponentRunLabeling &               m_Labeling;
-    const std::vector<LineRun> &                       m_FlippedRuns;
     std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
   };
 

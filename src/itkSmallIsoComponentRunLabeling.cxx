@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
+#include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -24,20 +25,6 @@
 
 namespace itk
 {
-namespace
-{
-/** Asks for the cache line at \a address ahead of its use; a hint only. */
-inline void
-PrefetchLine(const void * address)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(address);
-#else
-  (void)address;
-#endif
-}
-} // namespace
-
 void
 SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size,
                                          bool                               fullyConnected,
@@ -467,10 +454,8 @@ SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & 
 // under another root by compare-and-swap, always the larger index under the smaller, so
 // every root is the smallest component of its group whatever the order of the links;
 // path halving only ever replaces a parent by one of its ancestors.
-SmallIsoComponentRunLabeling::FlipGrouping::FlipGrouping(const SmallIsoComponentRunLabeling & labeling,
-                                                         const std::vector<LineRun> &         flippedRuns)
+SmallIsoComponentRunLabeling::FlipGrouping::FlipGrouping(const SmallIsoComponentRunLabeling & labeling)
   : m_Labeling(labeling)
-  , m_FlippedRuns(flippedRuns)
   , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
 {
   for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
@@ -530,13 +515,12 @@ SmallIsoComponentRunLabeling::FlipGrouping::Join(ComponentIndexType a, Component
 }
 
 void
-SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, SizeValueType last)
+SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
 {
   // Each flipped run touches the runs beside it in its line (runs alternate sides, so
   // those are below) and the below runs it overlaps in the neighbouring lines; its
   // component joins theirs. A repeat of the previous pair is skipped.
   const SmallIsoComponentRunLabeling & l = m_Labeling;
-  const std::vector<LineRun> &         flippedRuns = m_FlippedRuns;
   const SizeValueType                  allowance = l.m_FullyConnected ? 1 : 0;
   const RunIndexType * const           label = l.m_RunLabel.get();
   const CoordinateType * const         runStart = l.m_RunStart.get();
@@ -581,27 +565,27 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
   const SizeValueType plane = l.m_Size.size() > 1 ? l.m_Size[1] : 1;
   // The neighbouring lines of the runs ahead are requested early: first where their runs
   // begin, then (a few runs later, once that has arrived) their runs.
-  const auto prefetchLines = [&](SizeValueType ahead) {
-    const SizeValueType line = flippedRuns[ahead].Line;
-    PrefetchLine(lineRunBegin + line);
-    PrefetchLine(lineFirstAbove + line);
+  const auto prefetchLines = [&](const LineRun & ahead) {
+    const SizeValueType line = ahead.Line;
+    SmallIsoComponentDetail::Prefetch(lineRunBegin + line);
+    SmallIsoComponentDetail::Prefetch(lineFirstAbove + line);
     if (line >= plane)
     {
-      PrefetchLine(lineRunBegin + line - plane);
-      PrefetchLine(lineFirstAbove + line - plane);
+      SmallIsoComponentDetail::Prefetch(lineRunBegin + line - plane);
+      SmallIsoComponentDetail::Prefetch(lineFirstAbove + line - plane);
     }
     if (line + plane < l.m_NumberOfLines)
     {
-      PrefetchLine(lineRunBegin + line + plane);
-      PrefetchLine(lineFirstAbove + line + plane);
+      SmallIsoComponentDetail::Prefetch(lineRunBegin + line + plane);
+      SmallIsoComponentDetail::Prefetch(lineFirstAbove + line + plane);
     }
   };
-  const auto prefetchRuns = [&](SizeValueType ahead) {
-    const SizeValueType line = flippedRuns[ahead].Line;
+  const auto prefetchRuns = [&](const LineRun & ahead) {
+    const SizeValueType line = ahead.Line;
     const auto          runsOf = [&](SizeValueType other) {
       const SizeValueType begin = lineRunBegin[other];
-      PrefetchLine(runStart + begin);
-      PrefetchLine(label + begin);
+      SmallIsoComponentDetail::Prefetch(runStart + begin);
+      SmallIsoComponentDetail::Prefetch(label + begin);
     };
     runsOf(line);
     if (line >= plane)
@@ -613,18 +597,19 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
       runsOf(line + plane);
     }
   };
-  for (SizeValueType i = first; i < last; ++i)
+  const auto runs = static_cast<SizeValueType>(last - first);
+  for (SizeValueType i = 0; i < runs; ++i)
   {
-    if (i + 16 < last)
+    if (i + SmallIsoComponentDetail::PrefetchLineTablesAhead < runs)
     {
-      prefetchLines(i + 16);
+      prefetchLines(first[i + SmallIsoComponentDetail::PrefetchLineTablesAhead]);
     }
-    if (i + 8 < last)
+    if (i + SmallIsoComponentDetail::PrefetchRunsAhead < runs)
     {
-      prefetchRuns(i + 8);
+      prefetchRuns(first[i + SmallIsoComponentDetail::PrefetchRunsAhead]);
     }
-    const SizeValueType      run = flippedRuns[i].Run;
-    const SizeValueType      line = flippedRuns[i].Line;
+    const SizeValueType      run = first[i].Run;
+    const SizeValueType      line = first[i].Line;
     const ComponentIndexType component = label[run];
     const SizeValueType      lineBegin = lineRunBegin[line];
     const SizeValueType      lineEnd = lineRunBegin[line + 1];
@@ -681,15 +666,13 @@ SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, S
   }
 }
 
-void
-SmallIsoComponentRunLabeling::FlipGrouping::Finish(const std::vector<uint8_t> &      flipped,
-                                                   std::vector<ComponentIndexType> & groupOfComponent,
-                                                   std::vector<SizeValueType> &      groupSize)
+auto
+SmallIsoComponentRunLabeling::FlipGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups
 {
   const SmallIsoComponentRunLabeling & l = m_Labeling;
   const SizeValueType                  numberOfComponents = l.GetNumberOfComponents();
-  groupOfComponent.assign(numberOfComponents, NoGroup);
-  groupSize.clear();
+  Groups                               groups;
+  groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
     if (l.m_ComponentAbove[c] && !flipped[c])
@@ -698,14 +681,15 @@ SmallIsoComponentRunLabeling::FlipGrouping::Finish(const std::vector<uint8_t> & 
     }
     const ComponentIndexType root = this->Find(static_cast<ComponentIndexType>(c));
     // Roots are the smallest member, so a root's group is numbered before its members.
-    if (groupOfComponent[root] == NoGroup)
+    if (groups.GroupOfComponent[root] == NoGroup)
     {
-      groupOfComponent[root] = static_cast<ComponentIndexType>(groupSize.size());
-      groupSize.push_back(0);
+      groups.GroupOfComponent[root] = static_cast<ComponentIndexType>(groups.GroupSize.size());
+      groups.GroupSize.push_back(0);
     }
-    groupOfComponent[c] = groupOfComponent[root];
-    groupSize[groupOfComponent[c]] += l.m_ComponentSize[c];
+    groups.GroupOfComponent[c] = groups.GroupOfComponent[root];
+    groups.GroupSize[groups.GroupOfComponent[c]] += l.m_ComponentSize[c];
   }
+  return groups;
 }
 
 SizeValueType
