@@ -175,12 +175,13 @@ LabelSides(const TPixel *                          buffer,
            SideHistogram &                         above,
            SideHistogram &                         below)
 {
+  itk::SmallIsoComponentWorkTeam    team(threader, threader->GetNumberOfWorkUnits());
   itk::SmallIsoComponentRunLabeling labeling;
   labeling.Initialize(size, fullyConnected, threader->GetNumberOfWorkUnits());
   itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(
-    buffer, labeling, threader, [](itk::SizeValueType, itk::SizeValueType) {});
-  labeling.AssembleRuns(threader);
-  labeling.LinkRuns(threader);
+    buffer, labeling, team, [](itk::SizeValueType, itk::SizeValueType) {});
+  labeling.AssembleRuns(team);
+  labeling.LinkRuns();
   labeling.LabelComponents();
 
   above = SideHistogram();

@@ -282,23 +282,21 @@ private:
    * pixel type are only encoded: the copy and the clearing are returned, to be done while
    * the components are numbered. */
   SmallIsoComponentDetail::DeferredFill
-  EncodeRuns(RunLabeling & labeling, const InputImageType * input, OutputImageType * output, MaskImageType * mask);
+  EncodeRuns(SmallIsoComponentWorkTeam & team, RunLabeling & labeling);
 
   /** Links the touching runs of each side (what the assembly of the runs left: the seams
    * between slabs) and numbers the components, keeping the runs of the components of at
    * most K voxels as candidates; meanwhile the other work units do \a fill. */
   void
-  LinkAndNumberComponents(RunLabeling & labeling, const SmallIsoComponentDetail::DeferredFill & fill);
+  LinkAndNumberComponents(SmallIsoComponentWorkTeam &                   team,
+                          RunLabeling &                                 labeling,
+                          const SmallIsoComponentDetail::DeferredFill & fill);
 
   /** The above pass, on the input's components: decides which ones it removes and repairs
    * them. When the below pass follows (Side Both), the removed components flip below, and
    * \a grouping joins the below components next to them in the repair's loop. */
   Removal
-  RemoveAbove(const RunLabeling &    labeling,
-              FlipGrouping &         grouping,
-              const InputImageType * input,
-              OutputImageType *      output,
-              MaskImageType *        mask);
+  RemoveAbove(SmallIsoComponentWorkTeam & team, const RunLabeling & labeling, FlipGrouping & grouping);
 
   /** The components of the image the below pass sees: the below components grouped
    * through the above components that flipped (none unless the above pass of Both removed
@@ -309,10 +307,9 @@ private:
 
   /** The below pass: repairs the components flagged in \a removedBelow. */
   void
-  RemoveBelow(const RunLabeling &          labeling,
-              const std::vector<uint8_t> & removedBelow,
-              OutputImageType *            output,
-              MaskImageType *              mask);
+  RemoveBelow(SmallIsoComponentWorkTeam &  team,
+              const RunLabeling &          labeling,
+              const std::vector<uint8_t> & removedBelow);
   /** @} */
 
   /** Counts the components of \a side in its statistics and decides which ones its pass
@@ -328,18 +325,16 @@ private:
   CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;
 
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
-   * computed from \a before (the image before the pass), marks it in the mask, and counts
-   * it. \a joinFlipped, if given, joins the below components next to the runs in the same
+   * computed from the image before the pass, marks it in the mask, and counts it.
+   * \a joinFlipped, if given, joins the below components next to the runs in the same
    * loop. \a heldBytes: what the caller holds meanwhile. */
   void
-  RepairRuns(const RunLabeling &          labeling,
+  RepairRuns(SmallIsoComponentWorkTeam &  team,
+             const RunLabeling &          labeling,
              const std::vector<LineRun> & runs,
              SideEnum                     side,
-             const OutputPixelType *      before,
              FlipGrouping *               joinFlipped,
-             SizeValueType                heldBytes,
-             OutputImageType *            output,
-             MaskImageType *              mask);
+             SizeValueType                heldBytes);
 
   /** Whether the above pass flips components for the below pass. */
   bool

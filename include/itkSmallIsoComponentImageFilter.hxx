@@ -209,27 +209,26 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // The components of both sides, labelled over the lines' runs.
   RunLabeling labeling;
-  labeling.SetWorkTeam(&team);
   labeling.Initialize(std::vector<SizeValueType>(region.GetSize().begin(), region.GetSize().end()),
                       m_FullyConnected,
                       this->GetNumberOfWorkUnits());
   ProgressTransformer                         encodeProgress(0.0f, 0.3f, this);
-  const SmallIsoComponentDetail::DeferredFill fill = this->EncodeRuns(labeling, input, output, mask);
+  const SmallIsoComponentDetail::DeferredFill fill = this->EncodeRuns(team, labeling);
   this->EndPhase(encodeProgress);
 
   ProgressTransformer assembleProgress(0.3f, 0.35f, this);
-  labeling.AssembleRuns(this->GetMultiThreader());
+  labeling.AssembleRuns(team);
   m_ExtraMemory.Hold(labeling.GetPeakMemoryInBytes());
   this->EndPhase(assembleProgress);
 
   ProgressTransformer numberProgress(0.35f, 0.7f, this);
-  this->LinkAndNumberComponents(labeling, fill);
+  this->LinkAndNumberComponents(team, labeling, fill);
   this->EndPhase(numberProgress);
 
   // The above pass, then the below pass on the image the above pass leaves.
   ProgressTransformer aboveProgress(0.7f, 0.8f, this);
   FlipGrouping        grouping(labeling);
-  Removal             above = this->RemoveAbove(labeling, grouping, input, output, mask);
+  Removal             above = this->RemoveAbove(team, labeling, grouping);
   this->EndPhase(aboveProgress);
 
   ProgressTransformer        groupProgress(0.8f, 0.85f, this);
@@ -237,7 +236,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->EndPhase(groupProgress);
 
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
-  this->RemoveBelow(labeling, removedBelow, output, mask);
+  this->RemoveBelow(team, labeling, removedBelow);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
 }
 
@@ -264,14 +263,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ComputeEffectiveMaximum
 
 template <typename TInputImage, typename TOutputImage>
 SmallIsoComponentDetail::DeferredFill
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(RunLabeling &          labeling,
-                                                                    const InputImageType * input,
-                                                                    OutputImageType *      output,
-                                                                    MaskImageType *        mask)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentWorkTeam & team,
+                                                                    RunLabeling &               labeling)
 {
-  MaskPixelType *        maskBuffer = mask->GetBufferPointer();
-  const InputPixelType * inBuffer = input->GetBufferPointer();
-  OutputPixelType *      outBuffer = output->GetBufferPointer();
+  MaskPixelType *        maskBuffer = this->GetRemovedMask()->GetBufferPointer();
+  const InputPixelType * inBuffer = this->GetInput()->GetBufferPointer();
+  OutputPixelType *      outBuffer = this->GetOutput()->GetBufferPointer();
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
   const SizeValueType    length = labeling.GetLineLength();
   const SizeValueType    lines = labeling.GetNumberOfLines();
@@ -286,7 +283,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(RunLabeling 
       // which holds the same values, and the output and the mask are written later,
       // with streaming stores, while the components are numbered (a serial step that
       // leaves the other work units free).
-      threshold.Encode(inBuffer, labeling, this->GetMultiThreader(), [](SizeValueType, SizeValueType) {});
+      threshold.Encode(inBuffer, labeling, team, [](SizeValueType, SizeValueType) {});
       return SmallIsoComponentDetail::DeferredFill(
         inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * sizeof(MaskPixelType), lines);
     }
@@ -296,7 +293,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(RunLabeling 
   threshold.Encode(
     outBuffer,
     labeling,
-    this->GetMultiThreader(),
+    team,
     [&](SizeValueType first, SizeValueType end) {
       const InputPixelType * in = inBuffer + first * length;
       OutputPixelType *      out = outBuffer + first * length;
@@ -333,11 +330,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(RunLabeling 
 template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents(
+  SmallIsoComponentWorkTeam &                   team,
   RunLabeling &                                 labeling,
   const SmallIsoComponentDetail::DeferredFill & fill)
 {
   const auto linkAndNumber = [this, &labeling] {
-    labeling.LinkRuns(this->GetMultiThreader());
+    labeling.LinkRuns();
     labeling.LabelComponents(m_EffectiveMaximumComponentSize);
   };
   if (fill.IsEmpty())
@@ -348,7 +346,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
   {
     // Item 0 is the serial linking and numbering; the other work units meanwhile write
     // the output and the mask, block by block (the one that numbers joins them after).
-    labeling.Parallelize(this->GetMultiThreader(), 1 + fill.GetNumberOfBlocks(), [&](SizeValueType item) {
+    team.ForEach(1 + fill.GetNumberOfBlocks(), [&](SizeValueType item) {
       if (item == 0)
       {
         linkAndNumber();
@@ -364,11 +362,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
 
 template <typename TInputImage, typename TOutputImage>
 auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(const RunLabeling &    labeling,
-                                                                     FlipGrouping &         grouping,
-                                                                     const InputImageType * input,
-                                                                     OutputImageType *      output,
-                                                                     MaskImageType *        mask) -> Removal
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(SmallIsoComponentWorkTeam & team,
+                                                                     const RunLabeling &         labeling,
+                                                                     FlipGrouping &              grouping) -> Removal
 {
   Removal above;
   above.Components =
@@ -377,23 +373,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(const RunLa
       return labeling.IsComponentAbove(component) ? labeling.GetComponentSize(component) : 0;
     });
   above.Runs = this->CollectRemovedRuns(labeling, above.Components, SideEnum::Above);
-  // The output holds the input's values until this pass writes: where they are the same
-  // type, the input (likely still in the caches, unlike a streamed output) is read.
-  const OutputPixelType * before = output->GetBufferPointer();
-  if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
-  {
-    before = input->GetBufferPointer();
-  }
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
-  this->RepairRuns(labeling,
+  this->RepairRuns(team,
+                   labeling,
                    above.Runs,
                    SideEnum::Above,
-                   before,
                    this->AbovePassFlips() ? &grouping : nullptr,
-                   above.Components.capacity() + grouping.GetScratchBytes(),
-                   output,
-                   mask);
+                   above.Components.capacity() + grouping.GetScratchBytes());
   return above;
 }
 
@@ -431,16 +418,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(const RunLabeling &          labeling,
-                                                                     const std::vector<uint8_t> & removedBelow,
-                                                                     OutputImageType *            output,
-                                                                     MaskImageType *              mask)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(SmallIsoComponentWorkTeam &  team,
+                                                                     const RunLabeling &          labeling,
+                                                                     const std::vector<uint8_t> & removedBelow)
 {
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
   const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
-  this->RepairRuns(
-    labeling, runs, SideEnum::Below, output->GetBufferPointer(), nullptr, removedBelow.capacity(), output, mask);
+  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity());
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -495,27 +480,37 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(cons
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(const RunLabeling &          labeling,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(SmallIsoComponentWorkTeam &  team,
+                                                                    const RunLabeling &          labeling,
                                                                     const std::vector<LineRun> & runs,
                                                                     SideEnum                     side,
-                                                                    const OutputPixelType *      before,
                                                                     FlipGrouping *               joinFlipped,
-                                                                    SizeValueType                heldBytes,
-                                                                    OutputImageType *            output,
-                                                                    MaskImageType *              mask)
+                                                                    SizeValueType                heldBytes)
 {
   if (runs.empty())
   {
     return;
   }
+  OutputImageType * output = this->GetOutput();
+  // The values before the pass are the output's. Before the above pass writes, an input
+  // of the same type holds them too, and is likely still in the caches, unlike a streamed
+  // output.
+  const OutputPixelType * before = output->GetBufferPointer();
+  if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
+  {
+    if (side == SideEnum::Above)
+    {
+      before = this->GetInput()->GetBufferPointer();
+    }
+  }
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
-    labeling, this->GetMultiThreader(), runs, output->GetBufferedRegion().GetSize());
+    team, labeling, runs, output->GetBufferedRegion().GetSize());
   repair.ComputeValues(
     before, SmallIsoComponentThreshold<OutputPixelType>(m_IsoValue), side == SideEnum::Above, joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
-  m_NumberOfModifiedVoxels +=
-    repair.WriteValues(output->GetBufferPointer(), mask->GetBufferPointer(), side == SideEnum::Above ? 1 : 2);
+  m_NumberOfModifiedVoxels += repair.WriteValues(
+    output->GetBufferPointer(), this->GetRemovedMask()->GetBufferPointer(), side == SideEnum::Above ? 1 : 2);
 }
 
 template <typename TInputImage, typename TOutputImage>

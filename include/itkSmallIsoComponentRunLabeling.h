@@ -19,7 +19,6 @@
 #define itkSmallIsoComponentRunLabeling_h
 
 #include "itkIntTypes.h"
-#include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
@@ -73,105 +72,6 @@ public:
   /** Slabs per work unit when there are several work units. */
   static constexpr unsigned int SlabsPerWorkUnit = 4;
 
-  /** Fewer runs than this (to repair, to group) are handled by the calling thread alone:
-   * waking the threader's pool for them costs more than it saves. */
-  static constexpr SizeValueType MinimumRunsToShare = 2048;
-  /** The same when a work team with helpers takes the loops: they are awake already. */
-  static constexpr SizeValueType MinimumRunsToShareInTeam = 256;
-
-  /** MinimumRunsToShareInTeam with a work team that has helpers, else MinimumRunsToShare. */
-  SizeValueType
-  GetMinimumRunsToShare() const
-  {
-    return m_WorkTeam != nullptr && m_WorkTeam->GetNumberOfHelpers() > 0 ? MinimumRunsToShareInTeam
-                                                                         : MinimumRunsToShare;
-  }
-
-  /** Calls function(item) once for every item in [0, items), on the threader's work units,
-   * each taking the next unhandled item when it is free: a work unit that starts late (a
-   * pool thread waking up) takes what is left instead of holding up the others. */
-  template <typename TFunction>
-  static void
-  ParallelizeDynamically(MultiThreaderBase * threader, SizeValueType items, TFunction && function)
-  {
-    const SizeValueType units = std::min<SizeValueType>(items, threader->GetNumberOfWorkUnits());
-    if (units <= 1)
-    {
-      for (SizeValueType item = 0; item < items; ++item)
-      {
-        function(item);
-      }
-      return;
-    }
-    std::atomic<SizeValueType> next{ 0 };
-    threader->ParallelizeArray(
-      0,
-      units,
-      [&](SizeValueType) {
-        for (SizeValueType item = next++; item < items; item = next++)
-        {
-          function(item);
-        }
-      },
-      nullptr);
-  }
-
-  /** Hands the parallel loops of this labeling (and of the filter's steps that use
-   * Parallelize()) to \a team instead of the threader passed to each call; nullptr (the
-   * default) goes back to the threader. The team must outlive its use here. */
-  void
-  SetWorkTeam(SmallIsoComponentWorkTeam * team)
-  {
-    m_WorkTeam = team;
-  }
-
-  /** Chunks of removed or flipped runs per work unit, when the runs are shared. */
-  static constexpr SizeValueType ChunksPerWorkUnit = 32;
-
-  /** How many chunks a loop over \a runs runs is cut into: one below
-   * GetMinimumRunsToShare(), else ChunksPerWorkUnit per work unit (at most one per run). */
-  SizeValueType
-  GetNumberOfChunks(SizeValueType runs, MultiThreaderBase * threader) const
-  {
-    return runs < this->GetMinimumRunsToShare()
-             ? 1
-             : std::min<SizeValueType>(
-                 runs, ChunksPerWorkUnit * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
-  }
-
-  /** The work units a loop is shared among: the team's, or else the threader's. */
-  SizeValueType
-  GetNumberOfWorkUnits(MultiThreaderBase * threader) const
-  {
-    return m_WorkTeam != nullptr ? m_WorkTeam->GetNumberOfWorkUnits() : threader->GetNumberOfWorkUnits();
-  }
-
-  /** Calls function(item) once for every item in [0, items): through the work team if
-   * one is set, else as ParallelizeDynamically() does on \a threader. */
-  template <typename TFunction>
-  void
-  Parallelize(MultiThreaderBase * threader, SizeValueType items, TFunction && function) const
-  {
-    if (m_WorkTeam != nullptr)
-    {
-      m_WorkTeam->ForEach(items, function);
-    }
-    else
-    {
-      ParallelizeDynamically(threader, items, function);
-    }
-  }
-
-  /** Calls function(slab) once for every slab, as Parallelize() does. */
-  template <typename TFunction>
-  void
-  ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
-  {
-    this->Parallelize(threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) {
-      function(static_cast<unsigned int>(slab));
-    });
-  }
-
   SizeValueType
   GetLineLength() const
   {
@@ -182,14 +82,14 @@ public:
   {
     return m_NumberOfLines;
   }
-  unsigned int
+  SizeValueType
   GetNumberOfSlabs() const
   {
-    return static_cast<unsigned int>(m_SlabBeginLine.size() - 1);
+    return m_SlabBeginLine.size() - 1;
   }
   /** First line of a slab; GetSlabBeginLine(GetNumberOfSlabs()) is the number of lines. */
   SizeValueType
-  GetSlabBeginLine(unsigned int slab) const
+  GetSlabBeginLine(SizeValueType slab) const
   {
     return m_SlabBeginLine[slab];
   }
@@ -201,7 +101,7 @@ public:
    * slabs into one run array. */
   /** @{ */
   std::vector<CoordinateType> &
-  GetSlabRunStarts(unsigned int slab)
+  GetSlabRunStarts(SizeValueType slab)
   {
     return m_SlabRunStarts[slab];
   }
@@ -211,15 +111,16 @@ public:
     m_LineRunBegin[line + 1] = numberOfRuns;
     m_LineFirstAbove[line] = firstRunIsAbove;
   }
-  /** Joins the slabs' runs into one run array and links the runs inside each slab. */
+  /** Joins the slabs' runs into one run array and links the runs inside each slab, the
+   * slabs shared among the members of \a team. */
   void
-  AssembleRuns(MultiThreaderBase * threader);
+  AssembleRuns(SmallIsoComponentWorkTeam & team);
   /** @} */
 
   /** Links the runs of each side that touch under the chosen connectivity (what
    * AssembleRuns() left: the seams between slabs). */
   void
-  LinkRuns(MultiThreaderBase * threader);
+  LinkRuns();
 
   /** Numbers the components in order of their first run and sums their sizes. */
   void
@@ -376,7 +277,7 @@ private:
   LinkLines(SizeValueType lineA, SizeValueType lineB);
   /** Links the runs of one slab with each other. */
   void
-  LinkInsideSlab(unsigned int slab);
+  LinkInsideSlab(SizeValueType slab);
   void
   NextLineCoordinates(std::vector<SizeValueType> & coordinates) const;
   bool
@@ -402,7 +303,6 @@ private:
   std::vector<uint8_t>              m_ComponentAbove;
   std::vector<LineRun>              m_CandidateRuns;
   SizeValueType                     m_PeakMemoryInBytes{ 0 };
-  SmallIsoComponentWorkTeam *       m_WorkTeam{ nullptr };
 };
 } // end namespace itk
 

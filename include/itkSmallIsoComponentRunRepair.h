@@ -49,9 +49,10 @@ public:
   using SizeType = Size<VDimension>;
 
   /** The repair of \a runs (the runs of the removed components, in run order) in an image
-   * of extent \a size. The labeling and the runs must outlive it. */
-  RunRepair(const SmallIsoComponentRunLabeling & labeling,
-            MultiThreaderBase *                  threader,
+   * of extent \a size, its chunks shared among the members of \a team. The team, the
+   * labeling and the runs must outlive it. */
+  RunRepair(SmallIsoComponentWorkTeam &          team,
+            const SmallIsoComponentRunLabeling & labeling,
             const std::vector<LineRun> &         runs,
             const SizeType &                     size);
 
@@ -98,8 +99,8 @@ private:
   void
   ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const;
 
+  SmallIsoComponentWorkTeam &          m_Team;
   const SmallIsoComponentRunLabeling & m_Labeling;
-  MultiThreaderBase *                  m_Threader;
   const std::vector<LineRun> &         m_Runs;
   SizeType                             m_Size;
   OffsetValueType                      m_Stride[VDimension];

@@ -61,17 +61,17 @@ MeanToPixel(double mean)
 }
 
 template <typename TPixel, unsigned int VDimension>
-RunRepair<TPixel, VDimension>::RunRepair(const SmallIsoComponentRunLabeling & labeling,
-                                         MultiThreaderBase *                  threader,
+RunRepair<TPixel, VDimension>::RunRepair(SmallIsoComponentWorkTeam &          team,
+                                         const SmallIsoComponentRunLabeling & labeling,
                                          const std::vector<LineRun> &         runs,
                                          const SizeType &                     size)
-  : m_Labeling(labeling)
-  , m_Threader(threader)
+  : m_Team(team)
+  , m_Labeling(labeling)
   , m_Runs(runs)
   , m_Size(size)
   // A few removed runs are repaired by the calling thread alone: handing them to other
   // threads costs more than it saves.
-  , m_NumberOfChunks(labeling.GetNumberOfChunks(runs.size(), threader))
+  , m_NumberOfChunks(team.GetNumberOfChunks(runs.size()))
 {
   m_Stride[0] = 1;
   for (unsigned int a = 1; a < VDimension; ++a)
@@ -143,7 +143,7 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *                     
   };
   m_Values.assign(m_NumberOfChunks, {});
   m_Unrepairable.assign(m_NumberOfChunks, 0);
-  m_Labeling.Parallelize(m_Threader, m_NumberOfChunks, [&](SizeValueType chunk) {
+  m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
     auto & chunkValues = m_Values[chunk];
     chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
     this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
@@ -230,7 +230,7 @@ SizeValueType
 RunRepair<TPixel, VDimension>::WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const
 {
   std::vector<SizeValueType> newlyModified(m_NumberOfChunks, 0);
-  m_Labeling.Parallelize(m_Threader, m_NumberOfChunks, [&](SizeValueType chunk) {
+  m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
     auto value = m_Values[chunk].cbegin();
     this->ForEachRunOf(
       chunk,

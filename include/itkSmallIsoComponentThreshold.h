@@ -89,17 +89,17 @@ public:
              std::vector<SmallIsoComponentRunLabeling::CoordinateType> & starts) const;
 
   /** Encodes every line of \a buffer (the whole image, lines along axis 0), the slabs of
-   * \a labeling in parallel. prepareLines(first, end) is called for consecutive blocks of
+   * \a labeling shared among the members of \a team. prepareLines(first, end) is called for consecutive blocks of
    * lines of a slab (about 32 KiB of voxels each) just before their lines are read, so
    * that the caller can fill the buffer block by block while it is in cache. */
   template <typename TPrepareLines>
   void
   Encode(const TPixel *                 buffer,
          SmallIsoComponentRunLabeling & labeling,
-         MultiThreaderBase *            threader,
+         SmallIsoComponentWorkTeam &    team,
          TPrepareLines &&               prepareLines) const
   {
-    this->Encode(buffer, labeling, threader, std::forward<TPrepareLines>(prepareLines), [] {});
+    this->Encode(buffer, labeling, team, std::forward<TPrepareLines>(prepareLines), [] {});
   }
 
   /** The same; finishSlab() is called by the work unit that encoded a slab, after its
@@ -108,13 +108,13 @@ public:
   void
   Encode(const TPixel *                 buffer,
          SmallIsoComponentRunLabeling & labeling,
-         MultiThreaderBase *            threader,
+         SmallIsoComponentWorkTeam &    team,
          TPrepareLines &&               prepareLines,
          TFinishSlab &&                 finishSlab) const
   {
     const SizeValueType length = labeling.GetLineLength();
     const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
-    labeling.ParallelizeSlabs(threader, [&](unsigned int slab) {
+    team.ForEach(labeling.GetNumberOfSlabs(), [&](SizeValueType slab) {
       auto &              starts = labeling.GetSlabRunStarts(slab);
       const SizeValueType slabEnd = labeling.GetSlabBeginLine(slab + 1);
       for (SizeValueType block = labeling.GetSlabBeginLine(slab); block < slabEnd; block += linesPerBlock)

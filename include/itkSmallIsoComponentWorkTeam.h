@@ -22,6 +22,7 @@
 #include "itkMultiThreaderBase.h"
 #include "SmallIsoComponentExport.h"
 
+#include <algorithm>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -79,6 +80,24 @@ public:
   GetNumberOfHelpers() const
   {
     return m_NumberOfHelpers;
+  }
+
+  /** Loops over fewer cheap items than this (runs to repair or to group) are run by the
+   * calling thread alone: waking the threader's pool for them costs more than it saves. */
+  static constexpr SizeValueType MinimumItemsToShare = 2048;
+  /** The same when the team has helpers: they are awake already. */
+  static constexpr SizeValueType MinimumItemsToShareWithHelpers = 256;
+  /** Chunks per work unit when a loop over cheap items is shared. */
+  static constexpr SizeValueType ChunksPerWorkUnit = 32;
+
+  /** How many chunks a loop over \a items cheap items is cut into, for ForEach(): one
+   * below the minimum to share, else ChunksPerWorkUnit per work unit (at most one per
+   * item). */
+  SizeValueType
+  GetNumberOfChunks(SizeValueType items) const
+  {
+    const SizeValueType minimum = m_NumberOfHelpers > 0 ? MinimumItemsToShareWithHelpers : MinimumItemsToShare;
+    return items < minimum ? 1 : std::min<SizeValueType>(items, ChunksPerWorkUnit * m_NumberOfWorkUnits);
   }
 
   /** Calls function(item) once for every item in [0, items), each item taken by the

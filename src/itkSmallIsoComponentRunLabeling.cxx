@@ -112,7 +112,7 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
 }
 
 void
-SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
+SmallIsoComponentRunLabeling::AssembleRuns(SmallIsoComponentWorkTeam & team)
 {
   // SetLineRuns() stored counts one place to the right; make them offsets.
   std::partial_sum(m_LineRunBegin.begin(), m_LineRunBegin.end(), m_LineRunBegin.begin());
@@ -127,7 +127,7 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
   m_RunStart.reset(new CoordinateType[numberOfRuns]);
   m_RunLabel.reset(new RunIndexType[numberOfRuns]);
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
-  this->ParallelizeSlabs(threader, [this](unsigned int slab) {
+  team.ForEach(this->GetNumberOfSlabs(), [this](SizeValueType slab) {
     const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
     std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
     std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
@@ -274,7 +274,7 @@ SmallIsoComponentRunLabeling::NeighborInside(const std::vector<SizeValueType> & 
 }
 
 void
-SmallIsoComponentRunLabeling::LinkInsideSlab(unsigned int slab)
+SmallIsoComponentRunLabeling::LinkInsideSlab(SizeValueType slab)
 {
   if (m_Size.size() < 2)
   {
@@ -350,7 +350,7 @@ SmallIsoComponentRunLabeling::LinkInsideSlab(unsigned int slab)
 }
 
 void
-SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
+SmallIsoComponentRunLabeling::LinkRuns()
 {
   if (m_Size.size() < 2)
   {
@@ -360,7 +360,7 @@ SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
   // slab with the planes before it.
   std::vector<SizeValueType> coordinates;
   const SizeValueType        linesPerPlane = m_NumberOfLines / m_Size.back();
-  for (unsigned int slab = 1; slab < this->GetNumberOfSlabs(); ++slab)
+  for (SizeValueType slab = 1; slab < this->GetNumberOfSlabs(); ++slab)
   {
     const SizeValueType begin = m_SlabBeginLine[slab];
     this->LineCoordinates(begin, coordinates);
