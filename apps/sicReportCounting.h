@@ -21,6 +21,7 @@
 #include "sicReportTable.h"
 
 #include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
 
@@ -178,8 +179,7 @@ LabelSides(const TPixel *                          buffer,
   itk::SmallIsoComponentWorkTeam    team(threader, threader->GetNumberOfWorkUnits());
   itk::SmallIsoComponentRunLabeling labeling;
   labeling.Initialize(size, fullyConnected, threader->GetNumberOfWorkUnits());
-  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(
-    buffer, labeling, team, [](itk::SizeValueType, itk::SizeValueType) {});
+  itk::SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(buffer, labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
   labeling.LabelComponents();

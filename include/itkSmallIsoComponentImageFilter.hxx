@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentImageFilter_hxx
 
 #include "itkSmallIsoComponentImageFilter.h"
+#include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkSmallIsoComponentSizeCounter.h"
 #include "itkSmallIsoComponentStreamingStores.h"
@@ -274,7 +275,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
   const SizeValueType    lines = labeling.GetNumberOfLines();
   const bool             stream = length * lines * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >=
                       SmallIsoComponentDetail::StreamingThresholdInBytes;
-  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
+  const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(m_IsoValue);
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
     if (stream)
@@ -283,14 +284,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
       // which holds the same values, and the output and the mask are written later,
       // with streaming stores, while the components are numbered (a serial step that
       // leaves the other work units free).
-      threshold.Encode(inBuffer, labeling, team, [](SizeValueType, SizeValueType) {});
+      encoder.Encode(inBuffer, labeling, team);
       return SmallIsoComponentDetail::DeferredFill(
         inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * sizeof(MaskPixelType), lines);
     }
   }
   // The output and the mask are filled block by block (whole lines, contiguous in
   // memory) just before the block's lines are encoded.
-  threshold.Encode(
+  encoder.Encode(
     outBuffer,
     labeling,
     team,
