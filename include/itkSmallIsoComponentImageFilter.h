@@ -20,6 +20,7 @@
 
 #include "itkInPlaceImageFilter.h"
 #include "itkProgressTransformer.h"
+#include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentDeferredFill.h"
 #include "itkSmallIsoComponentEnums.h"
 #include "itkSmallIsoComponentPeakMemory.h"
@@ -248,7 +249,7 @@ protected:
 private:
   using RunLabeling = SmallIsoComponentRunLabeling;
   using LineRun = RunLabeling::LineRun;
-  using FlipGrouping = RunLabeling::FlipGrouping;
+  using BelowGrouping = SmallIsoComponentDetail::BelowGrouping;
 
   struct SideStatistics
   {
@@ -296,14 +297,14 @@ private:
    * them. When the below pass follows (Side Both), the removed components flip below, and
    * \a grouping joins the below components next to them in the repair's loop. */
   Removal
-  RemoveAbove(SmallIsoComponentWorkTeam & team, const RunLabeling & labeling, FlipGrouping & grouping);
+  RemoveAbove(SmallIsoComponentWorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
 
   /** The components of the image the below pass sees: the below components grouped
    * through the above components that flipped (none unless the above pass of Both removed
    * some). Decides which groups the below pass removes, frees the above pass's runs, and
    * returns one flag per component, set for the members of the removed groups. */
   std::vector<uint8_t>
-  GroupBelow(const RunLabeling & labeling, FlipGrouping & grouping, Removal & above);
+  GroupBelow(const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
 
   /** The below pass: repairs the components flagged in \a removedBelow. */
   void
@@ -333,7 +334,7 @@ private:
              const RunLabeling &          labeling,
              const std::vector<LineRun> & runs,
              SideEnum                     side,
-             FlipGrouping *               joinFlipped,
+             BelowGrouping *              joinFlipped,
              SizeValueType                heldBytes);
 
   /** Whether the above pass flips components for the below pass. */

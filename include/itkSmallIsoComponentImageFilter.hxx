@@ -228,7 +228,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // The above pass, then the below pass on the image the above pass leaves.
   ProgressTransformer aboveProgress(0.7f, 0.8f, this);
-  FlipGrouping        grouping(labeling);
+  BelowGrouping       grouping(labeling);
   Removal             above = this->RemoveAbove(team, labeling, grouping);
   this->EndPhase(aboveProgress);
 
@@ -365,7 +365,7 @@ template <typename TInputImage, typename TOutputImage>
 auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(SmallIsoComponentWorkTeam & team,
                                                                      const RunLabeling &         labeling,
-                                                                     FlipGrouping &              grouping) -> Removal
+                                                                     BelowGrouping &             grouping) -> Removal
 {
   Removal above;
   above.Components =
@@ -388,14 +388,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(SmallIsoCom
 template <typename TInputImage, typename TOutputImage>
 std::vector<uint8_t>
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLabeling & labeling,
-                                                                    FlipGrouping &      grouping,
+                                                                    BelowGrouping &     grouping,
                                                                     Removal &           above)
 {
   if (!this->AbovePassFlips())
   {
     std::fill(above.Components.begin(), above.Components.end(), 0);
   }
-  const typename FlipGrouping::Groups groups = grouping.Finish(above.Components);
+  const BelowGrouping::Groups groups = grouping.Finish(above.Components);
   m_ExtraMemory.Hold(
     labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Components, above.Runs, groups.GroupOfComponent);
   std::vector<LineRun>().swap(above.Runs);
@@ -406,7 +406,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
   for (SizeValueType c = 0; c < removedBelow.size(); ++c)
   {
     const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[c];
-    removedBelow[c] = group != RunLabeling::NoGroup && removedGroup[group];
+    removedBelow[c] = group != BelowGrouping::NoGroup && removedGroup[group];
   }
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + grouping.GetScratchBytes(),
                      above.Components,
@@ -485,7 +485,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(SmallIsoComp
                                                                     const RunLabeling &          labeling,
                                                                     const std::vector<LineRun> & runs,
                                                                     SideEnum                     side,
-                                                                    FlipGrouping *               joinFlipped,
+                                                                    BelowGrouping *              joinFlipped,
                                                                     SizeValueType                heldBytes)
 {
   if (runs.empty())

@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentRunLabeling_h
 
 #include "itkIntTypes.h"
+#include "itkSmallIsoComponentLineNeighbors.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
@@ -59,8 +60,6 @@ public:
   using ComponentIndexType = uint32_t;
   using CoordinateType = uint32_t;
 
-  /** Marks a component that belongs to no group in FlipGrouping::Finish(). */
-  static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
    * number of work units the work will be shared among (the lines are cut into up to
@@ -134,44 +133,6 @@ public:
   LabelComponents(SizeValueType candidateSize);
 
   SizeValueType
-  GetNumberOfRuns() const
-  {
-    return m_NumberOfRuns;
-  }
-  SizeValueType
-  GetLineRunsBegin(SizeValueType line) const
-  {
-    return m_LineRunBegin[line];
-  }
-  SizeValueType
-  GetLineRunsEnd(SizeValueType line) const
-  {
-    return m_LineRunBegin[line + 1];
-  }
-  SizeValueType
-  GetRunStart(SizeValueType run) const
-  {
-    return m_RunStart[run];
-  }
-  /** One past the run's last voxel; line is the run's line. */
-  SizeValueType
-  GetRunEnd(SizeValueType run, SizeValueType line) const
-  {
-    return run + 1 < m_LineRunBegin[line + 1] ? m_RunStart[run + 1] : m_Size[0];
-  }
-  bool
-  IsRunAbove(SizeValueType run, SizeValueType line) const
-  {
-    return (m_LineFirstAbove[line] != 0) != (((run - m_LineRunBegin[line]) & 1) != 0);
-  }
-  /** Valid after LabelComponents(). */
-  ComponentIndexType
-  GetRunComponent(SizeValueType run) const
-  {
-    return m_RunLabel[run];
-  }
-
-  SizeValueType
   GetNumberOfComponents() const
   {
     return m_ComponentSize.size();
@@ -194,62 +155,56 @@ public:
     RunIndexType Line;
   };
 
-  /** The below components after the above components flagged as flipped (one flag per
-   * component) have been moved below the isovalue: each flipped component joins the
-   * below components it touches, and through them other ones. JoinNeighbors() is called
-   * for the runs of the flipped components (in any ranges, concurrently if wanted, through
-   * a lock-free union-find over components; no run of the other components is visited and
-   * no voxel is read), so that the joins can share a loop with other work on the same
-   * runs; then Finish() numbers the groups. The labeling must outlive it. */
-  class SmallIsoComponent_EXPORT FlipGrouping
-  {
-  public:
-    explicit FlipGrouping(const SmallIsoComponentRunLabeling & labeling);
-    ~FlipGrouping();
-    FlipGrouping(const FlipGrouping &) = delete;
-    FlipGrouping &
-    operator=(const FlipGrouping &) = delete;
-
-    /** Joins the components of the flipped runs [first, last) (in run order) with the
-     * components of the below runs they touch. Safe to call from several threads at once. */
-    void
-    JoinNeighbors(const LineRun * first, const LineRun * last);
-
-    /** The groups, once every flipped run has been joined. */
-    struct Groups
-    {
-      /** The group of every below or flipped component (NoGroup for the other above
-       * components), numbered in order of their first run. */
-      std::vector<ComponentIndexType> GroupOfComponent;
-      /** The number of voxels in each group. */
-      std::vector<SizeValueType> GroupSize;
-    };
-    Groups
-    Finish(const std::vector<uint8_t> & flipped);
-
-    /** Bytes of scratch held. */
-    SizeValueType
-    GetScratchBytes() const;
-
-  private:
-    ComponentIndexType
-    Find(ComponentIndexType c);
-    void
-    Join(ComponentIndexType a, ComponentIndexType b);
-
-    const SmallIsoComponentRunLabeling &               m_Labeling;
-    std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
-  };
-
   /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
    * flagged in \a selected, in run order: every run of the selected components if they
    * have at most candidateSize voxels. Visits the candidates only, not every run. */
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
 
-  /** Coordinates along axes 1..N-1 of a line. */
-  void
-  LineCoordinates(SizeValueType line, std::vector<SizeValueType> & coordinates) const;
+  /** The runs, read-only, as arrays: for the loops over many runs after the numbering.
+   * Valid until the labeling is initialised again. */
+  struct RunTable
+  {
+    /** The first voxel of each run along axis 0. */
+    const CoordinateType * Start;
+    /** The component of each run (after LabelComponents()). */
+    const ComponentIndexType * Component;
+    /** The first run of each line; LineBegin[line + 1] ends the line's runs. */
+    const SizeValueType * LineBegin;
+    /** Whether each line's first run is above (then its runs alternate). */
+    const uint8_t * LineFirstAbove;
+    SizeValueType   LineLength;
+
+    /** One past the last voxel of \a run, whose line is \a line. */
+    SizeValueType
+    End(SizeValueType run, SizeValueType line) const
+    {
+      return run + 1 < LineBegin[line + 1] ? SizeValueType{ Start[run + 1] } : LineLength;
+    }
+  };
+  RunTable
+  GetRunTable() const
+  {
+    return { m_RunStart.get(), m_RunLabel.get(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0] };
+  }
+
+  /** The image extent given to Initialize() (axis 0 along the lines). */
+  const std::vector<SizeValueType> &
+  GetSize() const
+  {
+    return m_Size;
+  }
+  bool
+  IsFullyConnected() const
+  {
+    return m_FullyConnected;
+  }
+  /** The neighbouring lines of each line under the connectivity. */
+  const SmallIsoComponentDetail::LineNeighbors &
+  GetLineNeighbors() const
+  {
+    return m_LineNeighbors;
+  }
 
   /** Bytes held now by the run, line and component arrays. */
   SizeValueType
@@ -262,15 +217,6 @@ public:
   }
 
 private:
-  /** A neighbouring line: offset along axes 1..N-1 and in line numbers, and the axes
-   * (index into the line coordinates) along which it moves, with the direction. */
-  struct LineNeighbor
-  {
-    std::vector<int>                          Delta;
-    OffsetValueType                           LineOffset;
-    std::vector<std::pair<unsigned int, int>> Moves;
-  };
-
   void
   Union(RunIndexType a, RunIndexType b);
   void
@@ -278,18 +224,13 @@ private:
   /** Links the runs of one slab with each other. */
   void
   LinkInsideSlab(SizeValueType slab);
-  void
-  NextLineCoordinates(std::vector<SizeValueType> & coordinates) const;
-  bool
-  NeighborInside(const std::vector<SizeValueType> & coordinates, const LineNeighbor & neighbor) const;
 
-  std::vector<SizeValueType> m_Size;
-  SizeValueType              m_NumberOfLines{ 0 };
-  bool                       m_FullyConnected{ false };
-  std::vector<SizeValueType> m_SlabBeginLine;
-  /** Neighbours at a lower line number (each pair of lines is linked once) and all. */
-  std::vector<LineNeighbor> m_BackwardNeighbors;
-  std::vector<LineNeighbor> m_AllNeighbors;
+
+  std::vector<SizeValueType>             m_Size;
+  SizeValueType                          m_NumberOfLines{ 0 };
+  bool                                   m_FullyConnected{ false };
+  std::vector<SizeValueType>             m_SlabBeginLine;
+  SmallIsoComponentDetail::LineNeighbors m_LineNeighbors;
 
   std::vector<std::vector<CoordinateType>> m_SlabRunStarts;
   SizeValueType                            m_NumberOfRuns{ 0 };

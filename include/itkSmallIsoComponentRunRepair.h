@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentRunRepair_h
 
 #include "itkSize.h"
+#include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include <vector>
@@ -50,7 +51,7 @@ public:
 
   /** The repair of \a runs (the runs of the removed components, in run order) in an image
    * of extent \a size, its chunks shared among the members of \a team. The team, the
-   * labeling and the runs must outlive it. */
+   * labeling's runs and \a runs must outlive it. */
   RunRepair(SmallIsoComponentWorkTeam &          team,
             const SmallIsoComponentRunLabeling & labeling,
             const std::vector<LineRun> &         runs,
@@ -61,10 +62,10 @@ public:
    * the below pass, and the grouping joins their below neighbours in the same loop, while
    * the runs are in cache. */
   void
-  ComputeValues(const TPixel *                               before,
-                const SmallIsoComponentThreshold<TPixel> &   threshold,
-                bool                                         removedAreAbove,
-                SmallIsoComponentRunLabeling::FlipGrouping * joinFlipped);
+  ComputeValues(const TPixel *                             before,
+                const SmallIsoComponentThreshold<TPixel> & threshold,
+                bool                                       removedAreAbove,
+                BelowGrouping *                            joinFlipped);
 
   /** Writes the values into \a output and \a maskValue into \a mask for every voxel of the
    * runs; returns how many of them the mask had not marked before. */
@@ -90,7 +91,7 @@ private:
   SizeValueType
   FirstVoxel(const LineRun & run) const
   {
-    return run.Line * m_Size[0] + m_Labeling.GetRunStart(run.Run);
+    return run.Line * m_Size[0] + m_Table.Start[run.Run];
   }
 
   /** Calls visit(run) for the runs of \a chunk in order, and prefetch(run) for the run
@@ -99,12 +100,12 @@ private:
   void
   ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const;
 
-  SmallIsoComponentWorkTeam &          m_Team;
-  const SmallIsoComponentRunLabeling & m_Labeling;
-  const std::vector<LineRun> &         m_Runs;
-  SizeType                             m_Size;
-  OffsetValueType                      m_Stride[VDimension];
-  SizeValueType                        m_NumberOfChunks;
+  SmallIsoComponentWorkTeam &                  m_Team;
+  const SmallIsoComponentRunLabeling::RunTable m_Table;
+  const std::vector<LineRun> &                 m_Runs;
+  SizeType                                     m_Size;
+  OffsetValueType                              m_Stride[VDimension];
+  SizeValueType                                m_NumberOfChunks;
   /** The new values of each chunk's voxels, in run order, and its unrepairable voxels. */
   std::vector<std::vector<TPixel>> m_Values;
   std::vector<SizeValueType>       m_Unrepairable;

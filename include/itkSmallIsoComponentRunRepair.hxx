@@ -66,7 +66,7 @@ RunRepair<TPixel, VDimension>::RunRepair(SmallIsoComponentWorkTeam &          te
                                          const std::vector<LineRun> &         runs,
                                          const SizeType &                     size)
   : m_Team(team)
-  , m_Labeling(labeling)
+  , m_Table(labeling.GetRunTable())
   , m_Runs(runs)
   , m_Size(size)
   // A few removed runs are repaired by the calling thread alone: handing them to other
@@ -103,10 +103,10 @@ RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && pr
 
 template <typename TPixel, unsigned int VDimension>
 void
-RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *                               before,
-                                             const SmallIsoComponentThreshold<TPixel> &   threshold,
-                                             bool                                         removedAreAbove,
-                                             SmallIsoComponentRunLabeling::FlipGrouping * joinFlipped)
+RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *                             before,
+                                             const SmallIsoComponentThreshold<TPixel> & threshold,
+                                             bool                                       removedAreAbove,
+                                             BelowGrouping *                            joinFlipped)
 {
   const TPixel        fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
   const auto          sameSide = [&](TPixel v) { return threshold.IsAbove(v) == removedAreAbove; };
@@ -156,8 +156,8 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *                     
         rest /= m_Size[a];
       }
       const TPixel *      line = before + removed.Line * length;
-      const SizeValueType start = m_Labeling.GetRunStart(removed.Run);
-      const SizeValueType end = m_Labeling.GetRunEnd(removed.Run, removed.Line);
+      const SizeValueType start = m_Table.Start[removed.Run];
+      const SizeValueType end = m_Table.End(removed.Run, removed.Line);
       // Along axis 0 every voxel of the run meets the same two values.
       SizeValueType left = start;
       while (left > 0 && sameSide(line[left - 1]))
@@ -237,8 +237,7 @@ RunRepair<TPixel, VDimension>::WriteValues(TPixel * output, uint8_t * mask, uint
       [&](const LineRun & ahead) { Prefetch(mask + this->FirstVoxel(ahead)); },
       [&](const LineRun & removed) {
         const SizeValueType first = this->FirstVoxel(removed);
-        const SizeValueType count =
-          m_Labeling.GetRunEnd(removed.Run, removed.Line) - m_Labeling.GetRunStart(removed.Run);
+        const SizeValueType count = m_Table.End(removed.Run, removed.Line) - m_Table.Start[removed.Run];
         // Runs are a few voxels: plain loops, no library calls.
         SizeValueType newly = 0;
         for (SizeValueType i = 0; i < count; ++i)
