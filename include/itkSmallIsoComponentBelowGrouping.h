@@ -45,14 +45,14 @@ namespace SmallIsoComponentDetail
 class SmallIsoComponent_EXPORT BelowGrouping
 {
 public:
-  using ComponentIndexType = SmallIsoComponentRunLabeling::ComponentIndexType;
-  using LineRun = SmallIsoComponentRunLabeling::LineRun;
+  using ComponentIndexType = RunLabeling::ComponentIndexType;
+  using LineRun = RunLabeling::LineRun;
 
   /** The group of a component that belongs to none (an above component that did not flip). */
   static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
   /** Every component in a group of its own. The labeling must outlive the grouping. */
-  explicit BelowGrouping(const SmallIsoComponentRunLabeling & labeling);
+  explicit BelowGrouping(const RunLabeling & labeling);
   ~BelowGrouping();
   BelowGrouping(const BelowGrouping &) = delete;
   BelowGrouping &
@@ -87,7 +87,7 @@ private:
   void
   Join(ComponentIndexType a, ComponentIndexType b);
 
-  const SmallIsoComponentRunLabeling &               m_Labeling;
+  const RunLabeling &                                m_Labeling;
   std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
 };
 } // namespace SmallIsoComponentDetail

@@ -89,14 +89,14 @@ namespace itk
  * the input otherwise.
  *
  * Algorithm: each scanline is encoded as alternating runs of the two sides; one
- * union-find over the runs (SmallIsoComponentRunLabeling) labels both sides at once, in
+ * union-find over the runs (SmallIsoComponentDetail::RunLabeling) labels both sides at once, in
  * parallel slabs without locks. For Both, the below components after the above pass are
  * found without relabelling: each removed above component merges with the below
  * components it touches. Only the removed voxels are visited again for the repair.
  * Output and statistics do not depend on the number of threads or work units.
  *
  * Threads: with a PoolMultiThreader (ITK's default) and more than one work unit, an
- * update asks ITK's thread pool once for its helper threads (SmallIsoComponentWorkTeam,
+ * update asks ITK's thread pool once for its helper threads (WorkTeam,
  * at most one per other core) and hands them all its parallel steps, instead of waking
  * the pool for each; between steps they wait for up to a millisecond by spinning, then
  * sleep. Progress and abort events stay on the calling thread. Other threaders get each
@@ -247,7 +247,9 @@ protected:
   GenerateData() override;
 
 private:
-  using RunLabeling = SmallIsoComponentRunLabeling;
+  using WorkTeam = SmallIsoComponentDetail::WorkTeam;
+  using RunLabeling = SmallIsoComponentDetail::RunLabeling;
+  using DeferredFill = SmallIsoComponentDetail::DeferredFill;
   using LineRun = RunLabeling::LineRun;
   using BelowGrouping = SmallIsoComponentDetail::BelowGrouping;
 
@@ -282,22 +284,20 @@ private:
    * output and clearing its mask line, and returns an empty fill. Large images of one
    * pixel type are only encoded: the copy and the clearing are returned, to be done while
    * the components are numbered. */
-  SmallIsoComponentDetail::DeferredFill
-  EncodeRuns(SmallIsoComponentWorkTeam & team, RunLabeling & labeling);
+  DeferredFill
+  EncodeRuns(WorkTeam & team, RunLabeling & labeling);
 
   /** Links the touching runs of each side (what the assembly of the runs left: the seams
    * between slabs) and numbers the components, keeping the runs of the components of at
    * most K voxels as candidates; meanwhile the other work units do \a fill. */
   void
-  LinkAndNumberComponents(SmallIsoComponentWorkTeam &                   team,
-                          RunLabeling &                                 labeling,
-                          const SmallIsoComponentDetail::DeferredFill & fill);
+  LinkAndNumberComponents(WorkTeam & team, RunLabeling & labeling, const DeferredFill & fill);
 
   /** The above pass, on the input's components: decides which ones it removes and repairs
    * them. When the below pass follows (Side Both), the removed components flip below, and
    * \a grouping joins the below components next to them in the repair's loop. */
   Removal
-  RemoveAbove(SmallIsoComponentWorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
+  RemoveAbove(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
 
   /** The components of the image the below pass sees: the below components grouped
    * through the above components that flipped (none unless the above pass of Both removed
@@ -308,9 +308,7 @@ private:
 
   /** The below pass: repairs the components flagged in \a removedBelow. */
   void
-  RemoveBelow(SmallIsoComponentWorkTeam &  team,
-              const RunLabeling &          labeling,
-              const std::vector<uint8_t> & removedBelow);
+  RemoveBelow(WorkTeam & team, const RunLabeling & labeling, const std::vector<uint8_t> & removedBelow);
   /** @} */
 
   /** Counts the components of \a side in its statistics and decides which ones its pass
@@ -330,7 +328,7 @@ private:
    * \a joinFlipped, if given, joins the below components next to the runs in the same
    * loop. \a heldBytes: what the caller holds meanwhile. */
   void
-  RepairRuns(SmallIsoComponentWorkTeam &  team,
+  RepairRuns(WorkTeam &                   team,
              const RunLabeling &          labeling,
              const std::vector<LineRun> & runs,
              SideEnum                     side,

@@ -186,8 +186,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // the threader's pool for each. It is formed first, so that its helpers wake up while
   // the outputs are allocated.
   this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  SmallIsoComponentWorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
-  const InputImageType *    input = this->GetInput();
+  WorkTeam               team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
+  const InputImageType * input = this->GetInput();
   this->AllocateOutputs();
   OutputImageType * output = this->GetOutput();
   MaskImageType *   mask = this->GetRemovedMask();
@@ -213,8 +213,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   labeling.Initialize(std::vector<SizeValueType>(region.GetSize().begin(), region.GetSize().end()),
                       m_FullyConnected,
                       this->GetNumberOfWorkUnits());
-  ProgressTransformer                         encodeProgress(0.0f, 0.3f, this);
-  const SmallIsoComponentDetail::DeferredFill fill = this->EncodeRuns(team, labeling);
+  ProgressTransformer encodeProgress(0.0f, 0.3f, this);
+  const DeferredFill  fill = this->EncodeRuns(team, labeling);
   this->EndPhase(encodeProgress);
 
   ProgressTransformer assembleProgress(0.3f, 0.35f, this);
@@ -263,9 +263,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ComputeEffectiveMaximum
 }
 
 template <typename TInputImage, typename TOutputImage>
-SmallIsoComponentDetail::DeferredFill
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentWorkTeam & team,
-                                                                    RunLabeling &               labeling)
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & team, RunLabeling & labeling)
+  -> DeferredFill
 {
   MaskPixelType *        maskBuffer = this->GetRemovedMask()->GetBufferPointer();
   const InputPixelType * inBuffer = this->GetInput()->GetBufferPointer();
@@ -285,7 +285,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
       // with streaming stores, while the components are numbered (a serial step that
       // leaves the other work units free).
       encoder.Encode(inBuffer, labeling, team);
-      return SmallIsoComponentDetail::DeferredFill(
+      return DeferredFill(
         inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * sizeof(MaskPixelType), lines);
     }
   }
@@ -325,15 +325,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         SmallIsoComponentDetail::StreamFence();
       }
     });
-  return SmallIsoComponentDetail::DeferredFill();
+  return DeferredFill();
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents(
-  SmallIsoComponentWorkTeam &                   team,
-  RunLabeling &                                 labeling,
-  const SmallIsoComponentDetail::DeferredFill & fill)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents(WorkTeam &           team,
+                                                                                 RunLabeling &        labeling,
+                                                                                 const DeferredFill & fill)
 {
   const auto linkAndNumber = [this, &labeling] {
     labeling.LinkRuns();
@@ -363,9 +362,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
 
 template <typename TInputImage, typename TOutputImage>
 auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(SmallIsoComponentWorkTeam & team,
-                                                                     const RunLabeling &         labeling,
-                                                                     BelowGrouping &             grouping) -> Removal
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam &          team,
+                                                                     const RunLabeling & labeling,
+                                                                     BelowGrouping &     grouping) -> Removal
 {
   Removal above;
   above.Components =
@@ -419,7 +418,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(SmallIsoComponentWorkTeam &  team,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam &                   team,
                                                                      const RunLabeling &          labeling,
                                                                      const std::vector<uint8_t> & removedBelow)
 {
@@ -436,8 +435,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(SideEnum
                                                                         SizeValueType entries,
                                                                         TSizeOf &&    sizeOf)
 {
-  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
-  const bool                                        passRuns = m_Side == side || m_Side == SideEnum::Both;
+  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
+  const bool                                                passRuns = m_Side == side || m_Side == SideEnum::Both;
   const bool       repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
   SideStatistics & statistics = this->StatisticsOf(side);
   SmallIsoComponentDetail::SizeCounter sizes;
@@ -481,7 +480,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(cons
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(SmallIsoComponentWorkTeam &  team,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                   team,
                                                                     const RunLabeling &          labeling,
                                                                     const std::vector<LineRun> & runs,
                                                                     SideEnum                     side,
@@ -507,7 +506,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(SmallIsoComp
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
     team, labeling, runs, output->GetBufferedRegion().GetSize());
   repair.ComputeValues(
-    before, SmallIsoComponentThreshold<OutputPixelType>(m_IsoValue), side == SideEnum::Above, joinFlipped);
+    before, SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue), side == SideEnum::Above, joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
   m_NumberOfModifiedVoxels += repair.WriteValues(

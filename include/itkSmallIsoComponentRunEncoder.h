@@ -30,7 +30,7 @@ namespace SmallIsoComponentDetail
 {
 /** \class RunEncoder
  * \brief Splits scanlines into the alternating runs of the two sides of an isovalue, for
- * SmallIsoComponentRunLabeling. Internal to SmallIsoComponentImageFilter.
+ * RunLabeling. Internal to SmallIsoComponentImageFilter.
  *
  * A line is described by the start of each of its runs and the side of its first run.
  * For 8- and 16-bit integers and float, where SSE2 is available, 16 voxels are classified
@@ -43,7 +43,7 @@ template <typename TPixel>
 class ITK_TEMPLATE_EXPORT RunEncoder
 {
 public:
-  using CoordinateType = SmallIsoComponentRunLabeling::CoordinateType;
+  using CoordinateType = RunLabeling::CoordinateType;
 
   explicit RunEncoder(double isoValue)
     : m_Threshold(isoValue)
@@ -74,11 +74,11 @@ public:
    * slab, after its last line. */
   template <typename TPrepareLines, typename TFinishSlab>
   void
-  Encode(const TPixel *                 buffer,
-         SmallIsoComponentRunLabeling & labeling,
-         SmallIsoComponentWorkTeam &    team,
-         TPrepareLines &&               prepareLines,
-         TFinishSlab &&                 finishSlab) const
+  Encode(const TPixel *   buffer,
+         RunLabeling &    labeling,
+         WorkTeam &       team,
+         TPrepareLines && prepareLines,
+         TFinishSlab &&   finishSlab) const
   {
     const SizeValueType length = labeling.GetLineLength();
     const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
@@ -104,7 +104,7 @@ public:
 
   /** Encodes every line of \a buffer, with nothing to prepare or finish. */
   void
-  Encode(const TPixel * buffer, SmallIsoComponentRunLabeling & labeling, SmallIsoComponentWorkTeam & team) const
+  Encode(const TPixel * buffer, RunLabeling & labeling, WorkTeam & team) const
   {
     this->Encode(
       buffer, labeling, team, [](SizeValueType, SizeValueType) {}, [] {});
@@ -114,7 +114,7 @@ public:
   static constexpr SizeValueType BlockBytes = 32768;
 
 private:
-  SmallIsoComponentThreshold<TPixel> m_Threshold;
+  Threshold<TPixel> m_Threshold;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

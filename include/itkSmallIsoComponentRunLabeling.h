@@ -29,11 +29,14 @@
 
 namespace itk
 {
-/** \class SmallIsoComponentRunLabeling
+namespace SmallIsoComponentDetail
+{
+/** \class RunLabeling
  * \brief Connected components of both sides of an isovalue, computed over scanline runs.
+ * Internal to SmallIsoComponentImageFilter; the report tool's component counts
+ * (apps/sicReportCounting.h) are its one other user.
  *
- * This is the part of SmallIsoComponentImageFilter that does not depend on the pixel
- * type. The image is seen as lines along axis 0. Each line is split into maximal runs of
+ * The image is seen as lines along axis 0. Each line is split into maximal runs of
  * voxels on one side of the isovalue; runs alternate between the sides, so a line is
  * described by the start of each run and the side of its first run. One union-find over
  * the runs of both sides gives the components of both sides at once.
@@ -53,7 +56,7 @@ namespace itk
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT SmallIsoComponentRunLabeling
+class SmallIsoComponent_EXPORT RunLabeling
 {
 public:
   using RunIndexType = uint32_t;
@@ -113,7 +116,7 @@ public:
   /** Joins the slabs' runs into one run array and links the runs inside each slab, the
    * slabs shared among the members of \a team. */
   void
-  AssembleRuns(SmallIsoComponentWorkTeam & team);
+  AssembleRuns(WorkTeam & team);
   /** @} */
 
   /** Links the runs of each side that touch under the chosen connectivity (what
@@ -245,6 +248,7 @@ private:
   std::vector<LineRun>              m_CandidateRuns;
   SizeValueType                     m_PeakMemoryInBytes{ 0 };
 };
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #endif

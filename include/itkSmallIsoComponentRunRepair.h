@@ -46,26 +46,23 @@ template <typename TPixel, unsigned int VDimension>
 class ITK_TEMPLATE_EXPORT RunRepair
 {
 public:
-  using LineRun = SmallIsoComponentRunLabeling::LineRun;
+  using LineRun = RunLabeling::LineRun;
   using SizeType = Size<VDimension>;
 
   /** The repair of \a runs (the runs of the removed components, in run order) in an image
    * of extent \a size, its chunks shared among the members of \a team. The team, the
    * labeling's runs and \a runs must outlive it. */
-  RunRepair(SmallIsoComponentWorkTeam &          team,
-            const SmallIsoComponentRunLabeling & labeling,
-            const std::vector<LineRun> &         runs,
-            const SizeType &                     size);
+  RunRepair(WorkTeam & team, const RunLabeling & labeling, const std::vector<LineRun> & runs, const SizeType & size);
 
   /** Computes the new values from \a before (the image before the pass) for runs on the
    * side given by \a removedAreAbove. If \a joinFlipped is given, the runs are flipping for
    * the below pass, and the grouping joins their below neighbours in the same loop, while
    * the runs are in cache. */
   void
-  ComputeValues(const TPixel *                             before,
-                const SmallIsoComponentThreshold<TPixel> & threshold,
-                bool                                       removedAreAbove,
-                BelowGrouping *                            joinFlipped);
+  ComputeValues(const TPixel *            before,
+                const Threshold<TPixel> & threshold,
+                bool                      removedAreAbove,
+                BelowGrouping *           joinFlipped);
 
   /** Writes the values into \a output and \a maskValue into \a mask for every voxel of the
    * runs; returns how many of them the mask had not marked before. */
@@ -100,12 +97,12 @@ private:
   void
   ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const;
 
-  SmallIsoComponentWorkTeam &                  m_Team;
-  const SmallIsoComponentRunLabeling::RunTable m_Table;
-  const std::vector<LineRun> &                 m_Runs;
-  SizeType                                     m_Size;
-  OffsetValueType                              m_Stride[VDimension];
-  SizeValueType                                m_NumberOfChunks;
+  WorkTeam &                   m_Team;
+  const RunLabeling::RunTable  m_Table;
+  const std::vector<LineRun> & m_Runs;
+  SizeType                     m_Size;
+  OffsetValueType              m_Stride[VDimension];
+  SizeValueType                m_NumberOfChunks;
   /** The new values of each chunk's voxels, in run order, and its unrepairable voxels. */
   std::vector<std::vector<TPixel>> m_Values;
   std::vector<SizeValueType>       m_Unrepairable;

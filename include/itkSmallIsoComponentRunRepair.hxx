@@ -61,10 +61,10 @@ MeanToPixel(double mean)
 }
 
 template <typename TPixel, unsigned int VDimension>
-RunRepair<TPixel, VDimension>::RunRepair(SmallIsoComponentWorkTeam &          team,
-                                         const SmallIsoComponentRunLabeling & labeling,
-                                         const std::vector<LineRun> &         runs,
-                                         const SizeType &                     size)
+RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                   team,
+                                         const RunLabeling &          labeling,
+                                         const std::vector<LineRun> & runs,
+                                         const SizeType &             size)
   : m_Team(team)
   , m_Table(labeling.GetRunTable())
   , m_Runs(runs)
@@ -103,10 +103,10 @@ RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && pr
 
 template <typename TPixel, unsigned int VDimension>
 void
-RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *                             before,
-                                             const SmallIsoComponentThreshold<TPixel> & threshold,
-                                             bool                                       removedAreAbove,
-                                             BelowGrouping *                            joinFlipped)
+RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
+                                             const Threshold<TPixel> & threshold,
+                                             bool                      removedAreAbove,
+                                             BelowGrouping *           joinFlipped)
 {
   const TPixel        fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
   const auto          sameSide = [&](TPixel v) { return threshold.IsAbove(v) == removedAreAbove; };

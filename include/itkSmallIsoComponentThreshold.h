@@ -24,9 +24,11 @@
 
 namespace itk
 {
-/** \class SmallIsoComponentThreshold
+namespace SmallIsoComponentDetail
+{
+/** \class Threshold
  * \brief The isovalue σ seen through pixel type TPixel: which side a value is on, and the
- * values closest to σ on each side.
+ * values closest to σ on each side. Internal to SmallIsoComponentImageFilter.
  *
  * f >= σ holds exactly when f >= LowestAbove() (never for NaN); HighestBelow() is the
  * largest non-NaN value below σ. AnyAbove() / AnyBelow() tell whether the type has such a
@@ -37,14 +39,14 @@ namespace itk
  * \ingroup SmallIsoComponent
  */
 template <typename TPixel>
-class ITK_TEMPLATE_EXPORT SmallIsoComponentThreshold
+class ITK_TEMPLATE_EXPORT Threshold
 {
 public:
   using PixelType = TPixel;
   static_assert(std::is_arithmetic<TPixel>::value,
-                "SmallIsoComponentThreshold needs a scalar pixel type (an integer or floating-point type).");
+                "SmallIsoComponentDetail::Threshold needs a scalar pixel type (an integer or floating-point type).");
 
-  explicit SmallIsoComponentThreshold(double isoValue);
+  explicit Threshold(double isoValue);
 
   bool
   IsAbove(TPixel value) const
@@ -86,6 +88,7 @@ private:
   bool   m_AnyBelow{ false };
   TPixel m_HighestBelow{};
 };
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #ifndef ITK_MANUAL_INSTANTIATION

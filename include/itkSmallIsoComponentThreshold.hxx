@@ -24,8 +24,10 @@
 
 namespace itk
 {
+namespace SmallIsoComponentDetail
+{
 template <typename TPixel>
-SmallIsoComponentThreshold<TPixel>::SmallIsoComponentThreshold(double isoValue)
+Threshold<TPixel>::Threshold(double isoValue)
 {
   if constexpr (std::is_integral<TPixel>::value)
   {
@@ -59,7 +61,7 @@ SmallIsoComponentThreshold<TPixel>::SmallIsoComponentThreshold(double isoValue)
 template <typename TPixel>
 template <SizeValueType VBlock>
 bool
-SmallIsoComponentThreshold<TPixel>::BlockHasChange(const TPixel * block, TPixel lowestAbove, bool above)
+Threshold<TPixel>::BlockHasChange(const TPixel * block, TPixel lowestAbove, bool above)
 {
   // Reductions the compiler vectorises: a minimum or maximum for integers, a count for
   // floating point (where NaN, never above, must count as a change).
@@ -93,10 +95,7 @@ SmallIsoComponentThreshold<TPixel>::BlockHasChange(const TPixel * block, TPixel 
 
 template <typename TPixel>
 SizeValueType
-SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
-                                                   SizeValueType  from,
-                                                   SizeValueType  length,
-                                                   bool           above) const
+Threshold<TPixel>::NextSideChange(const TPixel * line, SizeValueType from, SizeValueType length, bool above) const
 {
   if (!m_AnyAbove)
   {
@@ -122,6 +121,7 @@ SmallIsoComponentThreshold<TPixel>::NextSideChange(const TPixel * line,
   return x;
 }
 
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #endif

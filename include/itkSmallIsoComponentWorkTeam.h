@@ -29,9 +29,11 @@
 
 namespace itk
 {
-/** \class SmallIsoComponentWorkTeam
+namespace SmallIsoComponentDetail
+{
+/** \class WorkTeam
  * \brief Threads that stay with one filter update and take its parallel loops one after
- * another.
+ * another. Internal to SmallIsoComponentImageFilter.
  *
  * A filter update runs several short parallel loops with serial steps between them.
  * Handing each loop to the threader wakes its pool threads each time, which costs tens
@@ -55,17 +57,17 @@ namespace itk
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT SmallIsoComponentWorkTeam
+class SmallIsoComponent_EXPORT WorkTeam
 {
 public:
   /** A team for \a workUnits work units of \a threader: workUnits - 1 helpers at most,
    * fewer if the pool has fewer threads or the machine fewer other cores. */
-  SmallIsoComponentWorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
+  WorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
   /** Dismisses the helpers and waits for the ones that started to leave. */
-  ~SmallIsoComponentWorkTeam();
-  SmallIsoComponentWorkTeam(const SmallIsoComponentWorkTeam &) = delete;
-  SmallIsoComponentWorkTeam &
-  operator=(const SmallIsoComponentWorkTeam &) = delete;
+  ~WorkTeam();
+  WorkTeam(const WorkTeam &) = delete;
+  WorkTeam &
+  operator=(const WorkTeam &) = delete;
 
   /** The work units a loop is shared among: the calling thread and the helpers asked
    * for, or the threader's work units when the team has no helpers. */
@@ -139,6 +141,7 @@ private:
   bool                   m_FirstLoopEnded{ false };
   std::shared_ptr<State> m_State;
 };
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #endif

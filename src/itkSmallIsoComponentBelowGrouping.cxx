@@ -27,7 +27,7 @@ namespace SmallIsoComponentDetail
 // under another root by compare-and-swap, always the larger index under the smaller, so
 // every root is the smallest component of its group whatever the order of the links;
 // path halving only ever replaces a parent by one of its ancestors.
-BelowGrouping::BelowGrouping(const SmallIsoComponentRunLabeling & labeling)
+BelowGrouping::BelowGrouping(const RunLabeling & labeling)
   : m_Labeling(labeling)
   , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
 {
@@ -93,14 +93,14 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
   // Each flipped run touches the runs beside it in its line (runs alternate sides, so
   // those are below) and the below runs it overlaps in the neighbouring lines; its
   // component joins theirs. A repeat of the previous pair is skipped.
-  using CoordinateType = SmallIsoComponentRunLabeling::CoordinateType;
-  const SmallIsoComponentRunLabeling::RunTable table = m_Labeling.GetRunTable();
-  const CoordinateType * const                 runStart = table.Start;
-  const ComponentIndexType * const             component = table.Component;
-  const SizeValueType * const                  lineRunBegin = table.LineBegin;
-  const uint8_t * const                        lineFirstAbove = table.LineFirstAbove;
-  const LineNeighbors &                        neighbors = m_Labeling.GetLineNeighbors();
-  LineNeighbors::Position                      position;
+  using CoordinateType = RunLabeling::CoordinateType;
+  const RunLabeling::RunTable      table = m_Labeling.GetRunTable();
+  const CoordinateType * const     runStart = table.Start;
+  const ComponentIndexType * const component = table.Component;
+  const SizeValueType * const      lineRunBegin = table.LineBegin;
+  const uint8_t * const            lineFirstAbove = table.LineFirstAbove;
+  const LineNeighbors &            neighbors = m_Labeling.GetLineNeighbors();
+  LineNeighbors::Position          position;
   // With full connectivity a run also touches the runs that end just before it or start
   // just after it in the neighbouring lines.
   const SizeValueType allowance = m_Labeling.IsFullyConnected() ? 1 : 0;

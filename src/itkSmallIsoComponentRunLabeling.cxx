@@ -24,10 +24,10 @@
 
 namespace itk
 {
+namespace SmallIsoComponentDetail
+{
 void
-SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size,
-                                         bool                               fullyConnected,
-                                         unsigned int                       maximumNumberOfSlabs)
+RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConnected, unsigned int maximumNumberOfSlabs)
 {
   if (size.empty() || size[0] == 0 || size[0] > NumericTraits<CoordinateType>::max())
   {
@@ -70,7 +70,7 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
 }
 
 void
-SmallIsoComponentRunLabeling::AssembleRuns(SmallIsoComponentWorkTeam & team)
+RunLabeling::AssembleRuns(WorkTeam & team)
 {
   // SetLineRuns() stored counts one place to the right; make them offsets.
   std::partial_sum(m_LineRunBegin.begin(), m_LineRunBegin.end(), m_LineRunBegin.begin());
@@ -97,7 +97,7 @@ SmallIsoComponentRunLabeling::AssembleRuns(SmallIsoComponentWorkTeam & team)
 }
 
 inline void
-SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
+RunLabeling::Union(RunIndexType a, RunIndexType b)
 {
   // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
   // the one with the larger parent and re-pointing it to the smaller parent on the way.
@@ -131,7 +131,7 @@ SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 }
 
 inline void
-SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
+RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
 {
   auto       a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
   const auto aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
@@ -194,7 +194,7 @@ SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB
 }
 
 void
-SmallIsoComponentRunLabeling::LinkInsideSlab(SizeValueType slab)
+RunLabeling::LinkInsideSlab(SizeValueType slab)
 {
   const SizeValueType begin = m_SlabBeginLine[slab];
   const SizeValueType end = m_SlabBeginLine[slab + 1];
@@ -212,7 +212,7 @@ SmallIsoComponentRunLabeling::LinkInsideSlab(SizeValueType slab)
 }
 
 void
-SmallIsoComponentRunLabeling::LinkRuns()
+RunLabeling::LinkRuns()
 {
   // AssembleRuns() linked the runs inside each slab. The seams: the first plane of each
   // slab with the planes before it.
@@ -234,14 +234,14 @@ SmallIsoComponentRunLabeling::LinkRuns()
 }
 
 void
-SmallIsoComponentRunLabeling::LabelComponents()
+RunLabeling::LabelComponents()
 {
   // Every run has at least one voxel: no run is a candidate.
   this->LabelComponents(0);
 }
 
 void
-SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
+RunLabeling::LabelComponents(SizeValueType candidateSize)
 {
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
@@ -292,7 +292,7 @@ SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
 }
 
 auto
-SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
+RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
 {
   std::vector<LineRun> runs;
   for (const LineRun & candidate : m_CandidateRuns)
@@ -306,7 +306,7 @@ SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & 
 }
 
 SizeValueType
-SmallIsoComponentRunLabeling::GetMemoryInBytes() const
+RunLabeling::GetMemoryInBytes() const
 {
   SizeValueType bytes = m_NumberOfRuns * (sizeof(CoordinateType) + sizeof(RunIndexType)) +
                         m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
@@ -318,4 +318,5 @@ SmallIsoComponentRunLabeling::GetMemoryInBytes() const
   }
   return bytes;
 }
+} // namespace SmallIsoComponentDetail
 } // end namespace itk

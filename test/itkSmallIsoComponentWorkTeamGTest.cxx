@@ -40,7 +40,7 @@
 
 namespace
 {
-using Team = itk::SmallIsoComponentWorkTeam;
+using Team = itk::SmallIsoComponentDetail::WorkTeam;
 
 /** Runs loops of random sizes and checks that each visits every item exactly once. */
 void
