@@ -83,7 +83,7 @@ public:
 
 private:
   ComponentIndexType
-  Find(ComponentIndexType c);
+  Find(ComponentIndexType component);
   void
   Join(ComponentIndexType a, ComponentIndexType b);
 

@@ -495,18 +495,20 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   // The values before the pass are the output's. Before the above pass writes, an input
   // of the same type holds them too, and is likely still in the caches, unlike a streamed
   // output.
-  const OutputPixelType * before = output->GetBufferPointer();
+  const OutputPixelType * valuesBeforePass = output->GetBufferPointer();
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
     if (side == SideEnum::Above)
     {
-      before = this->GetInput()->GetBufferPointer();
+      valuesBeforePass = this->GetInput()->GetBufferPointer();
     }
   }
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
     team, labeling, runs, output->GetBufferedRegion().GetSize());
-  repair.ComputeValues(
-    before, SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue), side == SideEnum::Above, joinFlipped);
+  repair.ComputeValues(valuesBeforePass,
+                       SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
+                       side == SideEnum::Above,
+                       joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
   m_NumberOfModifiedVoxels += repair.WriteValues(

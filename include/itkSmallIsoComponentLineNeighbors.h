@@ -50,17 +50,9 @@ public:
   /** Neighbours in an image of extent \a size (axis 0 along the lines). */
   LineNeighbors(const std::vector<SizeValueType> & size, bool fullyConnected);
 
-  /** A line and its coordinates along axes 1..N-1. */
+  /** A line and its coordinates along axes 1..N-1, read by LineNeighbors only. */
   class Position
   {
-  public:
-    SizeValueType
-    GetLine() const
-    {
-      return m_Line;
-    }
-
-  private:
     friend class LineNeighbors;
     SizeValueType              m_Line{ NumericTraits<SizeValueType>::max() };
     std::vector<SizeValueType> m_Coordinates;
@@ -121,14 +113,14 @@ public:
   ForEachEarlier(const Position & position, TFunction && function) const
   {
     const SizeValueType                line = position.m_Line;
-    const std::vector<SizeValueType> & c = position.m_Coordinates;
+    const std::vector<SizeValueType> & coordinates = position.m_Coordinates;
     if (m_FaceIn3D)
     {
-      if (c[0] > 0)
+      if (coordinates[0] > 0)
       {
         function(line - 1);
       }
-      if (c[1] > 0)
+      if (coordinates[1] > 0)
       {
         function(line - m_Stride[1]);
       }
@@ -137,7 +129,7 @@ public:
     {
       for (unsigned int a = 0; a < m_Extent.size(); ++a)
       {
-        if (c[a] > 0)
+        if (coordinates[a] > 0)
         {
           function(line - m_Stride[a]);
         }
@@ -147,7 +139,7 @@ public:
     {
       for (const Neighbor & neighbor : m_Earlier)
       {
-        if (this->Inside(c, neighbor))
+        if (this->Inside(coordinates, neighbor))
         {
           function(line + neighbor.LineOffset);
         }
@@ -162,22 +154,22 @@ public:
   ForEachNeighbor(const Position & position, TFunction && function) const
   {
     const SizeValueType                line = position.m_Line;
-    const std::vector<SizeValueType> & c = position.m_Coordinates;
+    const std::vector<SizeValueType> & coordinates = position.m_Coordinates;
     if (m_FaceIn3D)
     {
-      if (c[0] > 0)
+      if (coordinates[0] > 0)
       {
         function(line - 1);
       }
-      if (c[0] + 1 < m_Extent[0])
+      if (coordinates[0] + 1 < m_Extent[0])
       {
         function(line + 1);
       }
-      if (c[1] > 0)
+      if (coordinates[1] > 0)
       {
         function(line - m_Stride[1]);
       }
-      if (c[1] + 1 < m_Extent[1])
+      if (coordinates[1] + 1 < m_Extent[1])
       {
         function(line + m_Stride[1]);
       }
@@ -186,11 +178,11 @@ public:
     {
       for (unsigned int a = 0; a < m_Extent.size(); ++a)
       {
-        if (c[a] > 0)
+        if (coordinates[a] > 0)
         {
           function(line - m_Stride[a]);
         }
-        if (c[a] + 1 < m_Extent[a])
+        if (coordinates[a] + 1 < m_Extent[a])
         {
           function(line + m_Stride[a]);
         }
@@ -200,7 +192,7 @@ public:
     {
       for (const Neighbor & neighbor : m_All)
       {
-        if (this->Inside(c, neighbor))
+        if (this->Inside(coordinates, neighbor))
         {
           function(line + neighbor.LineOffset);
         }

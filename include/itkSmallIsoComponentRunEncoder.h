@@ -91,9 +91,9 @@ public:
         prepareLines(block, blockEnd);
         for (SizeValueType line = block; line < blockEnd; ++line)
         {
-          const SizeValueType before = starts.size();
+          const SizeValueType earlierRuns = starts.size();
           const bool          firstAbove = this->EncodeLine(buffer + line * length, length, starts);
-          labeling.SetLineRuns(line, starts.size() - before, firstAbove);
+          labeling.SetLineRuns(line, starts.size() - earlierRuns, firstAbove);
         }
       }
       // AssembleRuns() holds these and the joined arrays at once: no spare capacity.

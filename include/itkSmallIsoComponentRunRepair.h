@@ -54,12 +54,12 @@ public:
    * labeling's runs and \a runs must outlive it. */
   RunRepair(WorkTeam & team, const RunLabeling & labeling, const std::vector<LineRun> & runs, const SizeType & size);
 
-  /** Computes the new values from \a before (the image before the pass) for runs on the
-   * side given by \a removedAreAbove. If \a joinFlipped is given, the runs are flipping for
+  /** Computes the new values from \a valuesBeforePass (the image's voxels before the
+   * pass) for runs on the side given by \a removedAreAbove. If \a joinFlipped is given, the runs are flipping for
    * the below pass, and the grouping joins their below neighbours in the same loop, while
    * the runs are in cache. */
   void
-  ComputeValues(const TPixel *            before,
+  ComputeValues(const TPixel *            valuesBeforePass,
                 const Threshold<TPixel> & threshold,
                 bool                      removedAreAbove,
                 BelowGrouping *           joinFlipped);

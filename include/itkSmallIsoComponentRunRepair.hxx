@@ -103,7 +103,7 @@ RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && pr
 
 template <typename TPixel, unsigned int VDimension>
 void
-RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
+RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBeforePass,
                                              const Threshold<TPixel> & threshold,
                                              bool                      removedAreAbove,
                                              BelowGrouping *           joinFlipped)
@@ -119,25 +119,25 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
   // The voxels of a run ahead and their neighbours along the other axes.
   const auto prefetchNeighbors = [&](const LineRun & ahead) {
     const SizeValueType first = this->FirstVoxel(ahead);
-    Prefetch(before + first);
+    Prefetch(valuesBeforePass + first);
     for (unsigned int a = 1; a < VDimension; ++a)
     {
       const auto step = static_cast<SizeValueType>(m_Stride[a]);
       if (first >= step)
       {
-        Prefetch(before + first - step);
+        Prefetch(valuesBeforePass + first - step);
       }
       if (first + step < voxels)
       {
-        Prefetch(before + first + step);
+        Prefetch(valuesBeforePass + first + step);
       }
     }
   };
   // Adds a value found by a walk to the mean; NaN is never a repair value.
-  const auto use = [](TPixel v, double & sum, unsigned int & found) {
-    if (!IsNaN(v))
+  const auto addFound = [](TPixel value, double & sum, unsigned int & found) {
+    if (!IsNaN(value))
     {
-      sum += static_cast<double>(v);
+      sum += static_cast<double>(value);
       ++found;
     }
   };
@@ -155,7 +155,7 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
         coordinates[a] = rest % m_Size[a];
         rest /= m_Size[a];
       }
-      const TPixel *      line = before + removed.Line * length;
+      const TPixel *      line = valuesBeforePass + removed.Line * length;
       const SizeValueType start = m_Table.Start[removed.Run];
       const SizeValueType end = m_Table.End(removed.Run, removed.Line);
       // Along axis 0 every voxel of the run meets the same two values.
@@ -173,11 +173,11 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
       unsigned int lineFound = 0;
       if (left > 0)
       {
-        use(line[left - 1], lineSum, lineFound);
+        addFound(line[left - 1], lineSum, lineFound);
       }
       if (right < length)
       {
-        use(line[right], lineSum, lineFound);
+        addFound(line[right], lineSum, lineFound);
       }
       for (const TPixel * voxel = line + start; voxel < line + end; ++voxel)
       {
@@ -186,23 +186,23 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            before,
         for (unsigned int a = 1; a < VDimension; ++a)
         {
           const OffsetValueType step = m_Stride[a];
-          const TPixel *        v = voxel;
-          for (SizeValueType k = coordinates[a]; k > 0; --k)
+          const TPixel *        walk = voxel;
+          for (SizeValueType steps = coordinates[a]; steps > 0; --steps)
           {
-            v -= step;
-            if (!sameSide(*v))
+            walk -= step;
+            if (!sameSide(*walk))
             {
-              use(*v, sum, found);
+              addFound(*walk, sum, found);
               break;
             }
           }
-          v = voxel;
-          for (SizeValueType k = coordinates[a] + 1; k < m_Size[a]; ++k)
+          walk = voxel;
+          for (SizeValueType next = coordinates[a] + 1; next < m_Size[a]; ++next)
           {
-            v += step;
-            if (!sameSide(*v))
+            walk += step;
+            if (!sameSide(*walk))
             {
-              use(*v, sum, found);
+              addFound(*walk, sum, found);
               break;
             }
           }

@@ -42,11 +42,11 @@ constexpr bool SideBitsMarkAbove = std::is_same<T, uint8_t>::value || std::is_sa
 
 /** \class SideBits
  * \brief The SSE2 classification of 16 voxels at once: one bit per voxel, set for the
- * voxels on the side SideBitsMarkAbove<T> names, for a threshold t that is the lowest
- * value above the isovalue. Internal to SmallIsoComponentImageFilter.
+ * voxels on the side SideBitsMarkAbove<T> names, given the lowest value above the
+ * isovalue, t. Internal to SmallIsoComponentImageFilter.
  *
  * v >= t is tested as a saturated difference t - v of zero for unsigned integers, and its
- * negation as t > v for signed ones and as "not v >= t" for float (true for NaN), the one
+ * negation as t > v for signed ones and as "not v >= t" for float (true for NaN): the one
  * compare each type has in SSE2.
  *
  * \ingroup SmallIsoComponent
@@ -57,73 +57,75 @@ class SideBits
 public:
   static_assert(HasSideBits<T>, "SideBits classifies 8- and 16-bit integers and float only.");
 
-  explicit SideBits(T t)
+  explicit SideBits(T lowestAbove)
   {
     if constexpr (std::is_same<T, float>::value)
     {
-      m_T = _mm_castps_si128(_mm_set1_ps(t));
+      m_LowestAbove = _mm_castps_si128(_mm_set1_ps(lowestAbove));
     }
     else if constexpr (sizeof(T) == 1)
     {
-      m_T = _mm_set1_epi8(static_cast<char>(t));
+      m_LowestAbove = _mm_set1_epi8(static_cast<char>(lowestAbove));
     }
     else
     {
-      m_T = _mm_set1_epi16(static_cast<short>(t));
+      m_LowestAbove = _mm_set1_epi16(static_cast<short>(lowestAbove));
     }
   }
 
-  /** The bits of the 16 voxels at \a p. */
+  /** The bits of the 16 voxels at \a voxels. */
   unsigned int
-  operator()(const T * p) const
+  operator()(const T * voxels) const
   {
     if constexpr (sizeof(T) == 1)
     {
-      return static_cast<unsigned int>(_mm_movemask_epi8(Lanes(p)));
+      return static_cast<unsigned int>(_mm_movemask_epi8(this->Lanes(voxels)));
     }
     else if constexpr (sizeof(T) == 2)
     {
-      return static_cast<unsigned int>(_mm_movemask_epi8(_mm_packs_epi16(Lanes(p), Lanes(p + 8))));
+      return static_cast<unsigned int>(
+        _mm_movemask_epi8(_mm_packs_epi16(this->Lanes(voxels), this->Lanes(voxels + 8))));
     }
     else
     {
-      return static_cast<unsigned int>(_mm_movemask_epi8(
-        _mm_packs_epi16(_mm_packs_epi32(Lanes(p), Lanes(p + 4)), _mm_packs_epi32(Lanes(p + 8), Lanes(p + 12)))));
+      return static_cast<unsigned int>(
+        _mm_movemask_epi8(_mm_packs_epi16(_mm_packs_epi32(this->Lanes(voxels), this->Lanes(voxels + 4)),
+                                          _mm_packs_epi32(this->Lanes(voxels + 8), this->Lanes(voxels + 12)))));
     }
   }
 
 private:
-  /** All-ones lanes for the marked voxels of the 16 bytes at \a p. */
+  /** All-ones lanes for the marked voxels among the 16 bytes at \a voxels. */
   __m128i
-  Lanes(const T * p) const
+  Lanes(const T * voxels) const
   {
     if constexpr (std::is_same<T, float>::value)
     {
-      return _mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(p), _mm_castsi128_ps(m_T)));
+      return _mm_castps_si128(_mm_cmpnge_ps(_mm_loadu_ps(voxels), _mm_castsi128_ps(m_LowestAbove)));
     }
     else
     {
-      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i *>(p));
+      const __m128i values = _mm_loadu_si128(reinterpret_cast<const __m128i *>(voxels));
       if constexpr (std::is_same<T, uint8_t>::value)
       {
-        return _mm_cmpeq_epi8(_mm_subs_epu8(m_T, v), _mm_setzero_si128());
+        return _mm_cmpeq_epi8(_mm_subs_epu8(m_LowestAbove, values), _mm_setzero_si128());
       }
       else if constexpr (std::is_same<T, uint16_t>::value)
       {
-        return _mm_cmpeq_epi16(_mm_subs_epu16(m_T, v), _mm_setzero_si128());
+        return _mm_cmpeq_epi16(_mm_subs_epu16(m_LowestAbove, values), _mm_setzero_si128());
       }
       else if constexpr (std::is_same<T, int8_t>::value)
       {
-        return _mm_cmpgt_epi8(m_T, v);
+        return _mm_cmpgt_epi8(m_LowestAbove, values);
       }
       else
       {
-        return _mm_cmpgt_epi16(m_T, v);
+        return _mm_cmpgt_epi16(m_LowestAbove, values);
       }
     }
   }
 
-  __m128i m_T;
+  __m128i m_LowestAbove;
 };
 #endif
 } // namespace SmallIsoComponentDetail

@@ -42,7 +42,6 @@ template <typename TPixel>
 class ITK_TEMPLATE_EXPORT Threshold
 {
 public:
-  using PixelType = TPixel;
   static_assert(std::is_arithmetic<TPixel>::value,
                 "SmallIsoComponentDetail::Threshold needs a scalar pixel type (an integer or floating-point type).");
 

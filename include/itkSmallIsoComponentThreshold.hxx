@@ -101,20 +101,19 @@ Threshold<TPixel>::NextSideChange(const TPixel * line, SizeValueType from, SizeV
   {
     return above ? from : length;
   }
-  const TPixel  t = m_LowestAbove;
   SizeValueType x = from;
   // Whole blocks, then quarter blocks, before the change is located voxel by voxel.
   constexpr SizeValueType block = 64 / sizeof(TPixel) > 0 ? 64 / sizeof(TPixel) : 1;
   constexpr SizeValueType subBlock = block / 4 > 0 ? block / 4 : 1;
-  while (x + block <= length && !BlockHasChange<block>(line + x, t, above))
+  while (x + block <= length && !BlockHasChange<block>(line + x, m_LowestAbove, above))
   {
     x += block;
   }
-  while (x + subBlock <= length && !BlockHasChange<subBlock>(line + x, t, above))
+  while (x + subBlock <= length && !BlockHasChange<subBlock>(line + x, m_LowestAbove, above))
   {
     x += subBlock;
   }
-  while (x < length && (line[x] >= t) == above)
+  while (x < length && (line[x] >= m_LowestAbove) == above)
   {
     ++x;
   }

@@ -46,21 +46,21 @@ BelowGrouping::GetScratchBytes() const
 }
 
 inline auto
-BelowGrouping::Find(ComponentIndexType c) -> ComponentIndexType
+BelowGrouping::Find(ComponentIndexType component) -> ComponentIndexType
 {
   while (true)
   {
-    const ComponentIndexType parent = m_Parent[c].load(std::memory_order_relaxed);
-    if (parent == c)
+    const ComponentIndexType parent = m_Parent[component].load(std::memory_order_relaxed);
+    if (parent == component)
     {
-      return c;
+      return component;
     }
     const ComponentIndexType grandparent = m_Parent[parent].load(std::memory_order_relaxed);
     if (grandparent != parent)
     {
-      m_Parent[c].store(grandparent, std::memory_order_relaxed);
+      m_Parent[component].store(grandparent, std::memory_order_relaxed);
     }
-    c = grandparent;
+    component = grandparent;
   }
 }
 
@@ -104,14 +104,14 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
   // With full connectivity a run also touches the runs that end just before it or start
   // just after it in the neighbouring lines.
   const SizeValueType allowance = m_Labeling.IsFullyConnected() ? 1 : 0;
-  ComponentIndexType  lastA = NoGroup;
-  ComponentIndexType  lastB = NoGroup;
-  const auto          add = [&](ComponentIndexType a, ComponentIndexType b) {
-    if (a != lastA || b != lastB)
+  ComponentIndexType  lastFlipped = NoGroup;
+  ComponentIndexType  lastBelow = NoGroup;
+  const auto          join = [&](ComponentIndexType flipped, ComponentIndexType below) {
+    if (flipped != lastFlipped || below != lastBelow)
     {
-      lastA = a;
-      lastB = b;
-      this->Join(a, b);
+      lastFlipped = flipped;
+      lastBelow = below;
+      this->Join(flipped, below);
     }
   };
   // The below runs of line \a other that overlap [from, to). The run that holds from
@@ -122,19 +122,19 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
       const SizeValueType    otherBegin = lineRunBegin[other];
       const SizeValueType    otherEnd = lineRunBegin[other + 1];
       const CoordinateType * holder = runStart + otherBegin;
-      for (SizeValueType n = otherEnd - otherBegin; n > 1;)
+      for (SizeValueType candidates = otherEnd - otherBegin; candidates > 1;)
       {
-        const SizeValueType half = n / 2;
+        const SizeValueType half = candidates / 2;
         holder = holder[half] <= from ? holder + half : holder;
-        n -= half;
+        candidates -= half;
       }
       // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
       // every other run from the holder if it is below, else from the run after it.
-      SizeValueType k = static_cast<SizeValueType>(holder - runStart);
-      k += (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0) ? 1 : 0;
-      for (; k < otherEnd && runStart[k] < to; k += 2)
+      auto below = static_cast<SizeValueType>(holder - runStart);
+      below += (lineFirstAbove[other] != 0) != (((below - otherBegin) & 1) != 0) ? 1 : 0;
+      for (; below < otherEnd && runStart[below] < to; below += 2)
       {
-        add(flipped, component[k]);
+        join(flipped, component[below]);
       }
     };
   // The neighbouring lines of the runs ahead are requested early: first where their runs
@@ -192,11 +192,11 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
     const SizeValueType      lineEnd = lineRunBegin[line + 1];
     if (run > lineBegin)
     {
-      add(flipped, component[run - 1]);
+      join(flipped, component[run - 1]);
     }
     if (run + 1 < lineEnd)
     {
-      add(flipped, component[run + 1]);
+      join(flipped, component[run + 1]);
     }
     const SizeValueType start = runStart[run];
     const SizeValueType from = start >= allowance ? start - allowance : 0;

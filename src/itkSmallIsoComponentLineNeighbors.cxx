@@ -51,13 +51,13 @@ LineNeighbors::LineNeighbors(const std::vector<SizeValueType> & size, bool fully
     int           highestMove = 0;
     for (unsigned int a = 0; a < axes; ++a)
     {
-      const int d = static_cast<int>(rest % 3) - 1;
+      const int move = static_cast<int>(rest % 3) - 1;
       rest /= 3;
-      if (d != 0)
+      if (move != 0)
       {
-        neighbor.LineOffset += d * static_cast<OffsetValueType>(m_Stride[a]);
-        neighbor.Moves.emplace_back(a, d);
-        highestMove = d;
+        neighbor.LineOffset += move * static_cast<OffsetValueType>(m_Stride[a]);
+        neighbor.Moves.emplace_back(a, move);
+        highestMove = move;
       }
     }
     if (neighbor.Moves.empty())

@@ -50,9 +50,9 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
     maximumNumberOfSlabs > 1 ? SizeValueType{ maximumNumberOfSlabs } * SlabsPerWorkUnit : SizeValueType{ 1 };
   const SizeValueType slabs = std::max<SizeValueType>(1, std::min<SizeValueType>(wanted, planes));
   m_SlabBeginLine.resize(slabs + 1);
-  for (SizeValueType s = 0; s <= slabs; ++s)
+  for (SizeValueType slab = 0; slab <= slabs; ++slab)
   {
-    m_SlabBeginLine[s] = (s * planes / slabs) * linesPerPlane;
+    m_SlabBeginLine[slab] = (slab * planes / slabs) * linesPerPlane;
   }
 
   m_LineNeighbors = SmallIsoComponentDetail::LineNeighbors(size, fullyConnected);

@@ -43,22 +43,22 @@ void
 StreamCopy(void * destination, const void * source, SizeValueType bytes)
 {
 #if defined(__SSE2__)
-  auto *       d = static_cast<char *>(destination);
-  const auto * s = static_cast<const char *>(source);
-  const auto   head = HeadBytes(d, bytes);
-  std::memcpy(d, s, head);
-  for (d += head, s += head, bytes -= head; bytes >= 64; d += 64, s += 64, bytes -= 64)
+  auto *       to = static_cast<char *>(destination);
+  const auto * from = static_cast<const char *>(source);
+  const auto   head = HeadBytes(to, bytes);
+  std::memcpy(to, from, head);
+  for (to += head, from += head, bytes -= head; bytes >= 64; to += 64, from += 64, bytes -= 64)
   {
-    const __m128i v0 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s));
-    const __m128i v1 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 16));
-    const __m128i v2 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 32));
-    const __m128i v3 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 48));
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), v0);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), v1);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), v2);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), v3);
+    const __m128i quarter0 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(from));
+    const __m128i quarter1 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(from + 16));
+    const __m128i quarter2 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(from + 32));
+    const __m128i quarter3 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(from + 48));
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to), quarter0);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 16), quarter1);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 32), quarter2);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 48), quarter3);
   }
-  std::memcpy(d, s, bytes);
+  std::memcpy(to, from, bytes);
 #else
   std::memcpy(destination, source, bytes);
 #endif
@@ -68,18 +68,18 @@ void
 StreamZero(void * destination, SizeValueType bytes)
 {
 #if defined(__SSE2__)
-  auto *     d = static_cast<char *>(destination);
-  const auto head = HeadBytes(d, bytes);
-  std::memset(d, 0, head);
+  auto *     to = static_cast<char *>(destination);
+  const auto head = HeadBytes(to, bytes);
+  std::memset(to, 0, head);
   const __m128i zero = _mm_setzero_si128();
-  for (d += head, bytes -= head; bytes >= 64; d += 64, bytes -= 64)
+  for (to += head, bytes -= head; bytes >= 64; to += 64, bytes -= 64)
   {
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 16), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 32), zero);
+    _mm_stream_si128(reinterpret_cast<__m128i *>(to + 48), zero);
   }
-  std::memset(d, 0, bytes);
+  std::memset(to, 0, bytes);
 #else
   std::memset(destination, 0, bytes);
 #endif
