@@ -88,35 +88,21 @@ namespace itk
  * describe the image the below pass saw: the result of the above pass when Side is Both,
  * the input otherwise.
  *
- * Algorithm: each scanline is encoded as alternating runs of the two sides; one
- * union-find over the runs (SmallIsoComponentDetail::RunLabeling) labels both sides at once, in
- * parallel slabs without locks. For Both, the below components after the above pass are
- * found without relabelling: each removed above component merges with the below
- * components it touches. Only the removed voxels are visited again for the repair.
- * Output and statistics do not depend on the number of threads or work units.
- *
- * Threads: with a PoolMultiThreader (ITK's default) and more than one work unit, an
- * update asks ITK's thread pool once for its helper threads (WorkTeam,
- * at most one per other core) and hands them all its parallel steps, instead of waking
- * the pool for each; between steps they wait for up to a millisecond by spinning, then
- * sleep. Progress and abort events stay on the calling thread. Other threaders get each
- * step through ParallelizeArray(). Large images of one pixel type (output and mask of
- * 4 MiB or more) are written with streaming stores while the components are numbered.
+ * The filter runs on its threader with the number of work units SetNumberOfWorkUnits()
+ * gives; its output and statistics depend on neither that number nor the threads'.
  *
  * Memory beyond input, output and mask: 8 bytes per scanline run (a run is a maximal
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
- * at most K voxels, kept while the components are numbered so that the passes need not
- * scan all runs again), and 8 bytes per removed run plus one output pixel per removed
- * voxel; GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes
- * have far fewer runs than voxels: 0.12 to 0.38 bytes per voxel on the Open SciVis
- * volumes (0.97 on the 113,000-voxel silicium lattice). The worst case is a volume whose
- * sides alternate at every voxel (a 3-D checkerboard with face connectivity: one run and
- * one component per voxel, all candidates, all removed), measured at 38 bytes per voxel
- * with Side Both.
+ * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel;
+ * GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes have
+ * far fewer runs than voxels; a volume whose sides alternate at every voxel has one run
+ * per voxel.
  *
  * The filter can run in place (InPlaceOn(), when input and output types are the same),
  * which saves the output buffer and the copy; it is off by default.
+ *
+ * docs/algorithm.md describes how it works and where each step is implemented.
  *
  * \sa ConnectedComponentImageFilter
  * \sa RelabelComponentImageFilter
@@ -264,7 +250,7 @@ private:
   /** The components a pass removes: one flag per component, and their runs in run order. */
   struct Removal
   {
-    std::vector<uint8_t> Components;
+    std::vector<uint8_t> Removed;
     std::vector<LineRun> Runs;
   };
 
@@ -273,8 +259,16 @@ private:
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
+  /** Throws unless the input, the output and the mask are one whole image each. */
+  void
+  VerifyBufferedRegions();
+
+  /** Clears the statistics of the last update. */
+  void
+  ResetStatistics();
+
   /** \name The phases of GenerateData(), in order
-   * Each one reports what it holds at its fullest to m_ExtraMemory. */
+   * Each phase reports the bytes it holds at its fullest to m_ExtraMemory. */
   /** @{ */
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType

@@ -186,33 +186,17 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // the threader's pool for each. It is formed first, so that its helpers wake up while
   // the outputs are allocated.
   this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  WorkTeam               team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
-  const InputImageType * input = this->GetInput();
+  WorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
   this->AllocateOutputs();
-  OutputImageType * output = this->GetOutput();
-  MaskImageType *   mask = this->GetRemovedMask();
-  const auto &      region = output->GetBufferedRegion();
-  if (input->GetBufferedRegion() != region || mask->GetBufferedRegion() != region)
-  {
-    itkExceptionMacro("The input's buffered region " << input->GetBufferedRegion() << " differs from the output's "
-                                                     << region << "; the filter needs the whole image in one buffer.");
-  }
-  if (region.GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro("The input image is empty (size " << region.GetSize() << "); it must have at least one voxel.");
-  }
-  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(input->GetSpacing());
-  m_AboveStatistics = SideStatistics();
-  m_BelowStatistics = SideStatistics();
-  m_NumberOfModifiedVoxels = 0;
-  m_NumberOfUnrepairableVoxels = 0;
-  m_ExtraMemory.Reset();
+  this->VerifyBufferedRegions();
+  this->ResetStatistics();
+  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
 
   // The components of both sides, labelled over the lines' runs.
-  RunLabeling labeling;
-  labeling.Initialize(std::vector<SizeValueType>(region.GetSize().begin(), region.GetSize().end()),
-                      m_FullyConnected,
-                      this->GetNumberOfWorkUnits());
+  const auto & size = this->GetOutput()->GetBufferedRegion().GetSize();
+  RunLabeling  labeling;
+  labeling.Initialize(
+    std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
   ProgressTransformer encodeProgress(0.0f, 0.3f, this);
   const DeferredFill  fill = this->EncodeRuns(team, labeling);
   this->EndPhase(encodeProgress);
@@ -239,6 +223,34 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
   this->RemoveBelow(team, labeling, removedBelow);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyBufferedRegions()
+{
+  const auto & region = this->GetOutput()->GetBufferedRegion();
+  const auto & inputRegion = this->GetInput()->GetBufferedRegion();
+  if (inputRegion != region || this->GetRemovedMask()->GetBufferedRegion() != region)
+  {
+    itkExceptionMacro("The input's buffered region " << inputRegion << " differs from the output's " << region
+                                                     << "; the filter needs the whole image in one buffer.");
+  }
+  if (region.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro("The input image is empty (size " << region.GetSize() << "); it must have at least one voxel.");
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ResetStatistics()
+{
+  m_AboveStatistics = SideStatistics();
+  m_BelowStatistics = SideStatistics();
+  m_NumberOfModifiedVoxels = 0;
+  m_NumberOfUnrepairableVoxels = 0;
+  m_ExtraMemory.Reset();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -367,12 +379,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                                                                      BelowGrouping &     grouping) -> Removal
 {
   Removal above;
-  above.Components =
-    this->DecideRemovals(SideEnum::Above, labeling.GetNumberOfComponents(), [&labeling](SizeValueType c) {
-      const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
+  above.Removed =
+    this->DecideRemovals(SideEnum::Above, labeling.GetNumberOfComponents(), [&labeling](SizeValueType index) {
+      const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
       return labeling.IsComponentAbove(component) ? labeling.GetComponentSize(component) : 0;
     });
-  above.Runs = this->CollectRemovedRuns(labeling, above.Components, SideEnum::Above);
+  above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
   this->RepairRuns(team,
@@ -380,7 +392,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                    above.Runs,
                    SideEnum::Above,
                    this->AbovePassFlips() ? &grouping : nullptr,
-                   above.Components.capacity() + grouping.GetScratchBytes());
+                   above.Removed.capacity() + grouping.GetScratchBytes());
   return above;
 }
 
@@ -390,25 +402,28 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
                                                                     BelowGrouping &     grouping,
                                                                     Removal &           above)
 {
+  // Without a below pass after it (Side Above) the above pass flips nothing: the below
+  // side's statistics describe the input.
   if (!this->AbovePassFlips())
   {
-    std::fill(above.Components.begin(), above.Components.end(), 0);
+    std::fill(above.Removed.begin(), above.Removed.end(), 0);
   }
-  const BelowGrouping::Groups groups = grouping.Finish(above.Components);
+  const BelowGrouping::Groups groups = grouping.Finish(above.Removed);
   m_ExtraMemory.Hold(
-    labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Components, above.Runs, groups.GroupOfComponent);
+    labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, groups.GroupOfComponent);
+  // The flipped runs have been joined.
   std::vector<LineRun>().swap(above.Runs);
 
   const std::vector<uint8_t> removedGroup = this->DecideRemovals(
     SideEnum::Below, groups.GroupSize.size(), [&groups](SizeValueType group) { return groups.GroupSize[group]; });
   std::vector<uint8_t> removedBelow(labeling.GetNumberOfComponents(), 0);
-  for (SizeValueType c = 0; c < removedBelow.size(); ++c)
+  for (SizeValueType component = 0; component < removedBelow.size(); ++component)
   {
-    const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[c];
-    removedBelow[c] = group != BelowGrouping::NoGroup && removedGroup[group];
+    const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[component];
+    removedBelow[component] = group != BelowGrouping::NoGroup && removedGroup[group];
   }
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + grouping.GetScratchBytes(),
-                     above.Components,
+                     above.Removed,
                      removedBelow,
                      removedGroup,
                      groups.GroupOfComponent,

@@ -112,39 +112,7 @@ public:
   void
   ForEachEarlier(const Position & position, TFunction && function) const
   {
-    const SizeValueType                line = position.m_Line;
-    const std::vector<SizeValueType> & coordinates = position.m_Coordinates;
-    if (m_FaceIn3D)
-    {
-      if (coordinates[0] > 0)
-      {
-        function(line - 1);
-      }
-      if (coordinates[1] > 0)
-      {
-        function(line - m_Stride[1]);
-      }
-    }
-    else if (!m_FullyConnected)
-    {
-      for (unsigned int a = 0; a < m_Extent.size(); ++a)
-      {
-        if (coordinates[a] > 0)
-        {
-          function(line - m_Stride[a]);
-        }
-      }
-    }
-    else
-    {
-      for (const Neighbor & neighbor : m_Earlier)
-      {
-        if (this->Inside(coordinates, neighbor))
-        {
-          function(line + neighbor.LineOffset);
-        }
-      }
-    }
+    this->ForEach<false>(position, function);
   }
 
   /** Calls function(neighbor) for every neighbouring line of \a position inside the
@@ -152,6 +120,15 @@ public:
   template <typename TFunction>
   void
   ForEachNeighbor(const Position & position, TFunction && function) const
+  {
+    this->ForEach<true>(position, function);
+  }
+
+private:
+  /** The walk of ForEachEarlier() (earlier lines only) and ForEachNeighbor() (\a VLater). */
+  template <bool VLater, typename TFunction>
+  void
+  ForEach(const Position & position, TFunction && function) const
   {
     const SizeValueType                line = position.m_Line;
     const std::vector<SizeValueType> & coordinates = position.m_Coordinates;
@@ -161,7 +138,7 @@ public:
       {
         function(line - 1);
       }
-      if (coordinates[0] + 1 < m_Extent[0])
+      if (VLater && coordinates[0] + 1 < m_Extent[0])
       {
         function(line + 1);
       }
@@ -169,7 +146,7 @@ public:
       {
         function(line - m_Stride[1]);
       }
-      if (coordinates[1] + 1 < m_Extent[1])
+      if (VLater && coordinates[1] + 1 < m_Extent[1])
       {
         function(line + m_Stride[1]);
       }
@@ -182,7 +159,7 @@ public:
         {
           function(line - m_Stride[a]);
         }
-        if (coordinates[a] + 1 < m_Extent[a])
+        if (VLater && coordinates[a] + 1 < m_Extent[a])
         {
           function(line + m_Stride[a]);
         }
@@ -190,7 +167,7 @@ public:
     }
     else
     {
-      for (const Neighbor & neighbor : m_All)
+      for (const Neighbor & neighbor : VLater ? m_All : m_Earlier)
       {
         if (this->Inside(coordinates, neighbor))
         {
@@ -200,7 +177,6 @@ public:
     }
   }
 
-private:
   /** A neighbouring line under full connectivity: its offset in line numbers, and the
    * axes (index into the coordinates) along which it moves, with the direction. */
   struct Neighbor

@@ -34,7 +34,7 @@ namespace SmallIsoComponentDetail
 /** \class RunLabeling
  * \brief Connected components of both sides of an isovalue, computed over scanline runs.
  * Internal to SmallIsoComponentImageFilter; the report tool's component counts
- * (apps/sicReportCounting.h) are its one other user.
+ * (sicReportCounting.h, under apps/) are its one other user.
  *
  * The image is seen as lines along axis 0. Each line is split into maximal runs of
  * voxels on one side of the isovalue; runs alternate between the sides, so a line is
@@ -62,7 +62,6 @@ public:
   using RunIndexType = uint32_t;
   using ComponentIndexType = uint32_t;
   using CoordinateType = uint32_t;
-
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
    * number of work units the work will be shared among (the lines are cut into up to
@@ -97,10 +96,9 @@ public:
   }
 
   /** \name Run encoding
-   * The pixel-type specific code encodes the lines of each slab in order, appending the
-   * start of every run to GetSlabRunStarts(slab) and calling SetLineRuns() once per
-   * line; different slabs may be encoded concurrently. AssembleRuns() then joins the
-   * slabs into one run array. */
+   * RunEncoder encodes the lines of each slab in order, appending the start of every run
+   * to GetSlabRunStarts(slab) and calling SetLineRuns() once per line; different slabs may
+   * be encoded concurrently. AssembleRuns() then joins the slabs into one run array. */
   /** @{ */
   std::vector<CoordinateType> &
   GetSlabRunStarts(SizeValueType slab)
@@ -164,8 +162,8 @@ public:
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
 
-  /** The runs, read-only, as arrays: for the loops over many runs after the numbering.
-   * Valid until the labeling is initialised again. */
+  /** The runs, read-only, as arrays, for the loops over many runs: valid from
+   * AssembleRuns() until the next Initialize(). */
   struct RunTable
   {
     /** The first voxel of each run along axis 0. */

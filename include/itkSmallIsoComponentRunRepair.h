@@ -55,9 +55,9 @@ public:
   RunRepair(WorkTeam & team, const RunLabeling & labeling, const std::vector<LineRun> & runs, const SizeType & size);
 
   /** Computes the new values from \a valuesBeforePass (the image's voxels before the
-   * pass) for runs on the side given by \a removedAreAbove. If \a joinFlipped is given, the runs are flipping for
-   * the below pass, and the grouping joins their below neighbours in the same loop, while
-   * the runs are in cache. */
+   * pass) for runs on the side given by \a removedAreAbove. If \a joinFlipped is given,
+   * the runs flip for the below pass, and the grouping joins their below neighbours in the
+   * same loop, while the runs are in cache. */
   void
   ComputeValues(const TPixel *            valuesBeforePass,
                 const Threshold<TPixel> & threshold,

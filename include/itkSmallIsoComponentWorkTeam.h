@@ -35,7 +35,8 @@ namespace SmallIsoComponentDetail
  * \brief Threads that stay with one filter update and take its parallel loops one after
  * another. Internal to SmallIsoComponentImageFilter.
  *
- * A filter update runs several short parallel loops with serial steps between them.
+ * It schedules every parallel loop of an update. A filter update runs several short
+ * parallel loops with serial steps between them.
  * Handing each loop to the threader wakes its pool threads each time, which costs tens
  * of microseconds per loop on small volumes. A team asks ITK's thread pool once for its
  * helper threads (when the threader is a PoolMultiThreader); they stay for the life of the

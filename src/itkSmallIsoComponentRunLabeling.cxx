@@ -55,7 +55,7 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
     m_SlabBeginLine[slab] = (slab * planes / slabs) * linesPerPlane;
   }
 
-  m_LineNeighbors = SmallIsoComponentDetail::LineNeighbors(size, fullyConnected);
+  m_LineNeighbors = LineNeighbors(size, fullyConnected);
 
   m_SlabRunStarts.assign(slabs, {});
   m_NumberOfRuns = 0;
