@@ -13,13 +13,17 @@ import hashlib
 import json
 import math
 import os
-import pty
 import subprocess
 import sys
 import unittest
 import xml.dom.minidom
 
 from sic_tool_test import USAGE_ERROR, ToolTestCase, run
+
+try:
+    import pty  # POSIX only
+except ImportError:
+    pty = None
 
 FILTER = os.environ.get("SIC_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
@@ -227,6 +231,8 @@ class SmallIsoComponentCLITest(ToolTestCase):
         self.assertEqual(quiet.stderr, "")
 
     def test_progress_bar_on_a_terminal(self):
+        if pty is None:
+            self.skipTest("skipped: this platform has no pseudo-terminals (Python's pty module)")
         phantom = self.make_phantom()
         controller, terminal = pty.openpty()
         try:
@@ -367,6 +373,8 @@ class SmallIsoComponentCLITest(ToolTestCase):
             ([source, output, "--isovalue", "50", "--isovalue", "60"], "given twice"),
             ([source, output, "extra", "--isovalue", "50"], "unexpected extra argument"),
             ([source, output, "--isovalue", "50", "--threads", "many"], "--threads"),
+            ([source, output, "--isovalue", "50", "--threads", "1000000"], "--threads 1000000 is too many"),
+            ([source, output, "--isovalue", "50", "--stats="], "--stats is empty; expected a file path"),
         ]
         for arguments, words in cases:
             with self.subTest(arguments=arguments):
@@ -479,4 +487,4 @@ class SmallIsoComponentCLITest(ToolTestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    unittest.main(verbosity=2)

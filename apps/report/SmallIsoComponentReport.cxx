@@ -41,9 +41,9 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 namespace
 {
@@ -223,13 +223,7 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   }
   settings.Output = arguments.Value("--output");
   settings.Plot = arguments.Value("--plot");
-  for (const char * flag : { "--output", "--plot" })
-  {
-    if (arguments.Has(flag) && arguments.Value(flag).empty())
-    {
-      throw sic::ToolError(std::string(flag) + " is empty; expected a file path");
-    }
-  }
+  sic::CheckPathsNotEmpty(arguments, { "--output", "--plot" });
   if (arguments.Has("--plot-size"))
   {
     settings.PlotSize = sic::ParseCount("--plot-size", arguments.Value("--plot-size"));
@@ -252,15 +246,7 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   {
     throw sic::ToolError("--plot-size and --plot-isovalue choose curves of --plot FILE.png, which is not given");
   }
-  if (arguments.Has("--threads"))
-  {
-    settings.Threads = sic::ParseCount("--threads", arguments.Value("--threads"));
-    if (settings.Threads > ITK_MAX_THREADS)
-    {
-      throw sic::ToolError("--threads " + arguments.Value("--threads") + " is too many; expected 0 to " +
-                           std::to_string(ITK_MAX_THREADS));
-    }
-  }
+  settings.Threads = sic::ParseThreads(arguments);
   settings.Surfaces = !arguments.Has("--no-surfaces");
   return settings;
 }
@@ -398,13 +384,7 @@ Run(const ReportSettings & settings)
   }
   if (!stagedOutput.empty())
   {
-    std::ofstream file(stagedOutput);
-    file << text.str();
-    file.close();
-    if (!file)
-    {
-      throw sic::ToolError("cannot write the report to '" + settings.Output + "'");
-    }
+    sic::WriteTextFile(stagedOutput, settings.Output, "report", text.str());
   }
   outputs.Commit();
   if (stagedOutput.empty())

@@ -16,13 +16,13 @@
  *
  *=========================================================================*/
 #include "sicProgressReporter.h"
+#include "sicPlatform.h"
 
 #include "itkProcessObject.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
-#include <unistd.h>
 
 namespace sic
 {
@@ -56,7 +56,7 @@ ProgressReporter::ChooseStyle(bool quiet, bool slicerXml)
   {
     return Style::SlicerXml;
   }
-  return ::isatty(STDERR_FILENO) ? Style::Bar : Style::Lines;
+  return StandardErrorIsTerminal() ? Style::Bar : Style::Lines;
 }
 
 ProgressReporter::ProgressReporter(Style style, std::string name, std::string comment)

@@ -41,7 +41,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -310,22 +309,8 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   settings.SurfaceBefore = arguments.Value("--surface-before");
   settings.Render = arguments.Value("--render");
 #endif
-  for (const char * flag : { "--removed-mask", "--stats", "--surface", "--surface-before", "--render" })
-  {
-    if (arguments.Has(flag) && arguments.Value(flag).empty())
-    {
-      throw sic::ToolError(std::string(flag) + " is empty; expected a file path");
-    }
-  }
-  if (arguments.Has("--threads"))
-  {
-    settings.Threads = sic::ParseCount("--threads", arguments.Value("--threads"));
-    if (settings.Threads > ITK_MAX_THREADS)
-    {
-      throw sic::ToolError("--threads " + arguments.Value("--threads") + " is too many; expected 0 to " +
-                           std::to_string(ITK_MAX_THREADS));
-    }
-  }
+  sic::CheckPathsNotEmpty(arguments, { "--removed-mask", "--stats", "--surface", "--surface-before", "--render" });
+  settings.Threads = sic::ParseThreads(arguments);
   settings.Quiet = arguments.Has("--quiet");
   settings.ProgressXml = arguments.Has("--progress-xml");
   return settings;
@@ -576,13 +561,9 @@ Run(const sic::FilterSettings & settings)
 
   if (!stagedStats.empty())
   {
-    std::ofstream file(stagedStats);
-    sic::WriteStatisticsJson(file, ToolName, SIC_VERSION, settings, report);
-    file.close();
-    if (!file)
-    {
-      throw sic::ToolError("cannot write the statistics to '" + settings.Stats + "'");
-    }
+    std::ostringstream json;
+    sic::WriteStatisticsJson(json, ToolName, SIC_VERSION, settings, report);
+    sic::WriteTextFile(stagedStats, settings.Stats, "statistics", json.str());
   }
   outputs.Commit();
   progress.Finish();

@@ -18,6 +18,8 @@
 #include "sicCommandLine.h"
 #include "sicToolError.h"
 
+#include "itkMultiThreaderBase.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -268,5 +270,33 @@ ParseChoice(const std::string & flag, const std::string & text, const std::vecto
     expected += (expected.empty() ? "" : ", ") + choice;
   }
   throw ToolError(flag + " " + Quoted(text) + " is not a valid choice; expected one of " + expected);
+}
+
+std::uint64_t
+ParseThreads(const ParsedCommandLine & arguments)
+{
+  if (!arguments.Has("--threads"))
+  {
+    return 0;
+  }
+  const std::uint64_t threads = ParseCount("--threads", arguments.Value("--threads"));
+  if (threads > ITK_MAX_THREADS)
+  {
+    throw ToolError("--threads " + arguments.Value("--threads") + " is too many; expected 0 to " +
+                    std::to_string(ITK_MAX_THREADS));
+  }
+  return threads;
+}
+
+void
+CheckPathsNotEmpty(const ParsedCommandLine & arguments, const std::vector<std::string> & flags)
+{
+  for (const std::string & flag : flags)
+  {
+    if (arguments.Has(flag) && arguments.Value(flag).empty())
+    {
+      throw ToolError(flag + " is empty; expected a file path");
+    }
+  }
 }
 } // namespace sic

@@ -17,18 +17,11 @@
  *=========================================================================*/
 #include "sicReportPlot.h"
 
+#include "sicPlatform.h"
 #include "sicToolError.h"
 
-#include <cerrno>
-#include <cstdlib>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-extern char ** environ;
 
 namespace sic
 {
@@ -56,12 +49,13 @@ class TemporaryDirectory
 public:
   TemporaryDirectory()
   {
-    std::string pattern = (fs::temp_directory_path() / "SmallIsoComponentReport.XXXXXX").string();
-    if (!mkdtemp(pattern.data()))
+    std::error_code error;
+    m_Path = CreateUniqueDirectory(fs::temp_directory_path(), "SmallIsoComponentReport.", error);
+    if (m_Path.empty())
     {
-      throw ToolError("cannot create a temporary directory for the plot in " + fs::temp_directory_path().string());
+      throw ToolError("cannot create a temporary directory for the plot in " + fs::temp_directory_path().string() +
+                      " (" + error.message() + ")");
     }
-    m_Path = pattern;
   }
   TemporaryDirectory(const TemporaryDirectory &) = delete;
   TemporaryDirectory &
@@ -81,33 +75,22 @@ private:
   fs::path m_Path;
 };
 
-/** Runs gnuplot on \a script with its output in \a log; returns its exit status. */
-int
-RunPlotter(const fs::path & script, const fs::path & log)
+/** gnuplot's path on PATH; throws ToolError when it cannot be run. */
+fs::path
+FindPlotter()
 {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::string  program = Plotter;
-  std::string  argument = script.string();
-  char * const argv[] = { program.data(), argument.data(), nullptr };
-  pid_t        child = 0;
-  const int    spawned = posix_spawnp(&child, Plotter, &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0)
+  if (!CanStartPrograms())
   {
-    return -1;
+    throw ToolError("--plot runs gnuplot, and starting other programs is not supported on this platform; leave out "
+                    "--plot");
   }
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0)
+  const fs::path plotter = FindProgram(Plotter);
+  if (plotter.empty())
   {
-    if (errno != EINTR)
-    {
-      return -1;
-    }
+    throw ToolError("--plot needs gnuplot, which is not on PATH; install it (Debian: apt-get install gnuplot-nox) "
+                    "or leave out --plot");
   }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return plotter;
 }
 
 /** The first line of gnuplot's messages that says something, for the error. */
@@ -149,28 +132,13 @@ WritePanel(std::ostream &      script,
 void
 CheckPlotterAvailable()
 {
-  const char * path = std::getenv("PATH");
-  std::string  directories = path ? path : "";
-  size_t       begin = 0;
-  while (begin <= directories.size())
-  {
-    size_t end = directories.find(':', begin);
-    end = end == std::string::npos ? directories.size() : end;
-    const fs::path candidate = fs::path(end == begin ? "." : directories.substr(begin, end - begin)) / Plotter;
-    if (access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate))
-    {
-      return;
-    }
-    begin = end + 1;
-  }
-  throw ToolError("--plot needs gnuplot, which is not on PATH; install it (Debian: apt-get install gnuplot-nox) "
-                  "or leave out --plot");
+  FindPlotter();
 }
 
 void
 PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::string & path, const std::string & title)
 {
-  CheckPlotterAvailable();
+  const fs::path           plotter = FindPlotter();
   const TemporaryDirectory directory;
   const fs::path           byIsoValue = directory.Path() / "by-isovalue.dat";
   const fs::path           bySize = directory.Path() / "by-size.dat";
@@ -241,7 +209,7 @@ PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::str
     }
   }
   const fs::path log = directory.Path() / "gnuplot.log";
-  const int      status = RunPlotter(scriptPath, log);
+  const int      status = RunProgram(plotter, { scriptPath.string() }, log);
   if (status != 0)
   {
     throw ToolError("gnuplot failed to draw '" + path + "' (" +

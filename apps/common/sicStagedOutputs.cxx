@@ -16,11 +16,10 @@
  *
  *=========================================================================*/
 #include "sicStagedOutputs.h"
+#include "sicPlatform.h"
 #include "sicToolError.h"
 
-#include <cerrno>
-#include <cstdlib>
-#include <cstring>
+#include <fstream>
 
 namespace sic
 {
@@ -120,14 +119,14 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
     }
   }
 
-  std::string pattern = (directory / ("." + name.string() + ".tmp-XXXXXX")).string();
-  if (!::mkdtemp(pattern.data()))
+  const fs::path staging = CreateUniqueDirectory(directory, "." + name.string() + ".tmp-", error);
+  if (staging.empty())
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": cannot create a file in " +
-                    Quoted(directory) + " (" + std::strerror(errno) + ")");
+                    Quoted(directory) + " (" + error.message() + ")");
   }
-  m_Staged.push_back({ destination, what, fs::path(pattern) });
-  return (fs::path(pattern) / name).string();
+  m_Staged.push_back({ destination, what, staging });
+  return (staging / name).string();
 }
 
 void
@@ -182,5 +181,20 @@ StagedOutputs::Commit()
     fs::remove(staged.Directory, ignored);
   }
   m_Staged.clear();
+}
+
+void
+WriteTextFile(const std::string & path,
+              const std::string & finalPath,
+              const std::string & what,
+              const std::string & text)
+{
+  std::ofstream file(path);
+  file << text;
+  file.close();
+  if (!file)
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(finalPath));
+  }
 }
 } // namespace sic

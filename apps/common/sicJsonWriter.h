@@ -60,8 +60,6 @@ public:
   JsonWriter &
   Number(std::int64_t value);
   JsonWriter &
-  Boolean(bool value);
-  JsonWriter &
   Null();
 
   /** Ends the document with a newline. */

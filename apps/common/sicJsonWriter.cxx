@@ -225,14 +225,6 @@ JsonWriter::Number(std::int64_t value)
 }
 
 JsonWriter &
-JsonWriter::Boolean(bool value)
-{
-  BeforeValue(false);
-  Raw(value ? "true" : "false");
-  return *this;
-}
-
-JsonWriter &
 JsonWriter::Null()
 {
   BeforeValue(false);

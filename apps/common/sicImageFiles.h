@@ -25,6 +25,7 @@
 #include "itkImageFileWriter.h"
 #include "itkImageIOBase.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,11 @@ namespace sic
 /** What an image file's header says, for a scalar image the tools can process. */
 struct ScalarImageInfo
 {
-  std::string                     Path;
-  itk::IOComponentEnum            ComponentType{ itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE };
-  unsigned int                    Dimension{ 0 };
-  std::vector<itk::SizeValueType> Size;
-  std::vector<double>             Spacing;
-  std::vector<double>             Origin;
+  itk::IOComponentEnum       ComponentType{ itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE };
+  unsigned int               Dimension{ 0 };
+  std::vector<std::uint64_t> Size;
+  std::vector<double>        Spacing;
+  std::vector<double>        Origin;
 };
 
 /** Reads the header of the image file \a path (described to the user as \a what, e.g.

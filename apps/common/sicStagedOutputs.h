@@ -79,6 +79,14 @@ private:
   std::vector<Protected> m_Protected;
   std::vector<Staged>    m_Staged;
 };
+
+/** Writes \a text to \a path, where the output described as \a what (e.g. "report") is
+ * staged. Throws ToolError, naming the output's \a finalPath, if that fails. */
+void
+WriteTextFile(const std::string & path,
+              const std::string & finalPath,
+              const std::string & what,
+              const std::string & text);
 } // namespace sic
 
 #endif

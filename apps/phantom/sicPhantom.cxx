@@ -182,7 +182,10 @@ StampBlobs(PhantomImageType * image,
           const double dz = static_cast<double>(z - center[2]) / radius[2];
           if (dx * dx + dy * dy + dz * dz <= 1.0)
           {
-            image->SetPixel({ { x, y, z } }, ToPixel(value + Noise(noise)));
+            const PhantomImageType::IndexType index = { { static_cast<itk::IndexValueType>(x),
+                                                          static_cast<itk::IndexValueType>(y),
+                                                          static_cast<itk::IndexValueType>(z) } };
+            image->SetPixel(index, ToPixel(value + Noise(noise)));
           }
         }
       }

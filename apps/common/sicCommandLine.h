@@ -153,6 +153,16 @@ ParseCount(const std::string & flag, const std::string & text);
 /** One of \a choices (case-insensitive, returned as spelled in \a choices). */
 std::string
 ParseChoice(const std::string & flag, const std::string & text, const std::vector<std::string> & choices);
+
+/** The number of ITK work units --threads asks for, 0 to ITK_MAX_THREADS; 0 (ITK's
+ * default) when it is not given. Throws ToolError naming the flag. */
+std::uint64_t
+ParseThreads(const ParsedCommandLine & arguments);
+
+/** Throws ToolError if one of \a flags, options that take a file path, was given an empty
+ * value. */
+void
+CheckPathsNotEmpty(const ParsedCommandLine & arguments, const std::vector<std::string> & flags);
 } // namespace sic
 
 #endif

@@ -18,11 +18,14 @@
 #ifndef sicHeadlessDisplay_h
 #define sicHeadlessDisplay_h
 
+#include <memory>
+#include <optional>
 #include <string>
-#include <sys/types.h>
 
 namespace sic
 {
+class BackgroundProgram;
+
 /** An X display for VTK's off-screen rendering. Debian's VTK renders through X (it has no
  * EGL or OSMesa back end), so on a machine without a display the tool starts its own virtual
  * one: if $DISPLAY is unset or cannot be opened, the constructor starts Xvfb on a free
@@ -41,17 +44,11 @@ public:
   operator=(const HeadlessDisplay &) = delete;
   ~HeadlessDisplay();
 
-  /** Whether this object started Xvfb (false when an existing display is used). */
-  bool
-  StartedServer() const
-  {
-    return m_Server > 0;
-  }
-
 private:
-  pid_t       m_Server{ -1 };
-  std::string m_PreviousDisplay;
-  bool        m_HadDisplay{ false };
+  /** The Xvfb this object started, if it started one. */
+  std::unique_ptr<BackgroundProgram> m_Server;
+  /** $DISPLAY before Xvfb replaced it; none when it was unset. */
+  std::optional<std::string> m_PreviousDisplay;
 };
 } // namespace sic
 

@@ -110,7 +110,6 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
 
   ScalarImageInfo info;
-  info.Path = path;
   info.ComponentType = io->GetComponentType();
   info.Dimension = io->GetNumberOfDimensions();
   if (io->GetNumberOfComponents() != 1)

@@ -108,12 +108,6 @@ public:
   }
 
   itk::SizeValueType
-  GetNumberOfCells() const
-  {
-    return m_Minima.size();
-  }
-
-  itk::SizeValueType
   Count(double isoValue) const
   {
     const itk::SmallIsoComponentDetail::Threshold<TPixel> threshold(isoValue);
