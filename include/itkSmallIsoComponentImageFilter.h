@@ -48,14 +48,13 @@ namespace itk
  * finds nothing; a walk from an above voxel that stops on a NaN finds nothing either
  * (NaN is below σ but never a repair value). Walks read the values from before the
  * current pass and cross only voxels of v's own component. The mean is taken in double
- * precision; for integer output pixels it is rounded half up (itk::Math::Round), which
- * cannot move it back across σ because the values it averages are all integers on one
- * side. A voxel whose walks all find nothing (only possible when its component spans
- * the image along every axis through it) gets the representable value on the other side
- * closest to σ and is counted in GetNumberOfUnrepairableVoxels(). If the output type has
- * no value on the other side at all (for example σ <= 0 for unsigned char, which puts
- * every voxel above), the component cannot be removed: it is kept and its voxels are
- * counted as unrepairable.
+ * precision, and cannot overflow: when the sum of values near the limits of double
+ * overflows, the mean is that of the values divided by 16, times 16. For integer output pixels it is rounded half up
+ * (itk::Math::Round), which cannot move it back across σ because the values it averages are all integers on one side. A
+ * voxel whose walks all find nothing (only possible when its component spans the image along every axis through it)
+ * gets the representable value on the other side closest to σ and is counted in GetNumberOfUnrepairableVoxels(). If the
+ * output type has no value on the other side at all (for example σ <= 0 for unsigned char, which puts every voxel
+ * above), the component cannot be removed: it is kept and its voxels are counted as unrepairable.
  *
  * Side selects the pass: Above removes small above components (specks outside a dense
  * object), Below removes small below components (bubbles inside it), Both runs Above and

@@ -182,6 +182,27 @@ public:
     {
       return run + 1 < LineBegin[line + 1] ? SizeValueType{ Start[run + 1] } : LineLength;
     }
+    /** Whether \a run, whose line is \a line, is above (sides alternate along a line). */
+    bool
+    IsAbove(SizeValueType run, SizeValueType line) const
+    {
+      return (LineFirstAbove[line] != 0) == (((run - LineBegin[line]) & 1) == 0);
+    }
+    /** The run of \a line that holds voxel \a x (the last one starting at or before it; a
+     * line's first run starts at 0), found by a binary search without branches, which the
+     * run starts would make unpredictable. */
+    SizeValueType
+    RunHolding(SizeValueType line, SizeValueType x) const
+    {
+      const CoordinateType * holder = Start + LineBegin[line];
+      for (SizeValueType candidates = LineBegin[line + 1] - LineBegin[line]; candidates > 1;)
+      {
+        const SizeValueType half = candidates / 2;
+        holder = holder[half] <= x ? holder + half : holder;
+        candidates -= half;
+      }
+      return static_cast<SizeValueType>(holder - Start);
+    }
   };
   RunTable
   GetRunTable() const

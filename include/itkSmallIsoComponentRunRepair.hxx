@@ -21,6 +21,7 @@
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkMath.h"
 #include "itkSmallIsoComponentPrefetch.h"
+#include "itkSmallIsoComponentRepairMean.h"
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -30,36 +31,6 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-template <typename T>
-bool
-IsNaN(T value)
-{
-  if constexpr (std::is_floating_point<T>::value)
-  {
-    return std::isnan(value);
-  }
-  else
-  {
-    (void)value;
-    return false;
-  }
-}
-
-/** A mean of values of type T, as T: rounded half up for integers. */
-template <typename T>
-T
-MeanToPixel(double mean)
-{
-  if constexpr (std::is_integral<T>::value)
-  {
-    return static_cast<T>(Math::Round<int64_t>(mean));
-  }
-  else
-  {
-    return static_cast<T>(mean);
-  }
-}
-
 template <typename TPixel, unsigned int VDimension>
 RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                   team,
                                          const RunLabeling &          labeling,
@@ -133,14 +104,6 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
       }
     }
   };
-  // Adds a value found by a walk to the mean; NaN is never a repair value.
-  const auto addFound = [](TPixel value, double & sum, unsigned int & found) {
-    if (!IsNaN(value))
-    {
-      sum += static_cast<double>(value);
-      ++found;
-    }
-  };
   m_Values.assign(m_NumberOfChunks, {});
   m_Unrepairable.assign(m_NumberOfChunks, 0);
   m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
@@ -169,20 +132,18 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
       {
         ++right;
       }
-      double       lineSum = 0.0;
-      unsigned int lineFound = 0;
+      RepairMean lineMean;
       if (left > 0)
       {
-        addFound(line[left - 1], lineSum, lineFound);
+        lineMean.Add(line[left - 1]);
       }
       if (right < length)
       {
-        addFound(line[right], lineSum, lineFound);
+        lineMean.Add(line[right]);
       }
       for (const TPixel * voxel = line + start; voxel < line + end; ++voxel)
       {
-        double       sum = lineSum;
-        unsigned int found = lineFound;
+        RepairMean mean = lineMean;
         for (unsigned int a = 1; a < VDimension; ++a)
         {
           const OffsetValueType step = m_Stride[a];
@@ -192,7 +153,7 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
             walk -= step;
             if (!sameSide(*walk))
             {
-              addFound(*walk, sum, found);
+              mean.Add(*walk);
               break;
             }
           }
@@ -202,14 +163,14 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
             walk += step;
             if (!sameSide(*walk))
             {
-              addFound(*walk, sum, found);
+              mean.Add(*walk);
               break;
             }
           }
         }
-        if (found > 0)
+        if (mean.GetCount() > 0)
         {
-          chunkValues.push_back(MeanToPixel<TPixel>(sum / found));
+          chunkValues.push_back(mean.Get<TPixel>());
         }
         else
         {

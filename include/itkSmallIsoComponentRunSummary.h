@@ -20,7 +20,7 @@
 
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunLabeling.h"
-#include "itkSmallIsoComponentThreshold.h"
+#include "itkSmallIsoComponentRunEncoder.h"
 
 namespace itk
 {
@@ -31,25 +31,25 @@ namespace SmallIsoComponentDetail
  * LabelComponents(rules.MaximumComponentSize) so that the runs of its small components are
  * candidates. The summary is not settled yet. Internal to the module. */
 SmallIsoComponent_EXPORT BlockSummary
-SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
-                  const BlockSummary::IndexType &      extent,
-                  const BlockSummary::IndexType &      imageSize,
-                  const BlockSummary::IndexType &      begin,
-                  const ComponentRules &               rules);
+SummarizeLabeling(const RunLabeling &             labeling,
+                  const BlockSummary::IndexType & extent,
+                  const BlockSummary::IndexType & imageSize,
+                  const BlockSummary::IndexType & begin,
+                  const ComponentRules &          rules);
 
-/** Labels the box of \a extent voxels at \a values (x fastest) with \a labeling: encodes its runs,
- * links them under \a fullyConnected and numbers the components, keeping the runs of those of at
+/** Labels the box of \a extent voxels at \a values (x fastest) with \a labeling: encodes its runs
+ * with \a encoder, links them under \a fullyConnected and numbers the components, keeping the runs of those of at
  * most \a maximumComponentSize voxels as candidates; \a workUnits share the work. */
 template <typename TPixel>
 void
-LabelBox(const TPixel *                             values,
-         const BlockSummary::IndexType &            extent,
-         const SmallIsoComponentThreshold<TPixel> & threshold,
-         bool                                       fullyConnected,
-         uint64_t                                   maximumComponentSize,
-         MultiThreaderBase *                        threader,
-         unsigned int                               workUnits,
-         SmallIsoComponentRunLabeling &             labeling);
+LabelBox(const TPixel *                  values,
+         const BlockSummary::IndexType & extent,
+         const RunEncoder<TPixel> &      encoder,
+         bool                            fullyConnected,
+         uint64_t                        maximumComponentSize,
+         MultiThreaderBase *             threader,
+         unsigned int                    workUnits,
+         RunLabeling &                   labeling);
 
 /** The settled summary of the box [begin, begin + extent) of an image of \a imageSize voxels, whose
  * voxels are at \a values: what a chunk of the chunked mode reports. */
@@ -70,17 +70,12 @@ SmallIsoComponent_EXPORT uint64_t
 BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side);
 
 /** Calls visit(otherRun) for every run of the other side that touches run \a run of line \a line
- * of \a labeling, whose image is a box of \a extent voxels: the runs beside it in its line and
+ * of \a labeling: the runs beside it in its line and
  * the other side's runs of the neighbouring lines that overlap it (diagonally too with full
  * connectivity). A run may be visited more than once. */
 template <typename TVisit>
 void
-ForEachTouchingRunOfOtherSide(const SmallIsoComponentRunLabeling & labeling,
-                              const BlockSummary::IndexType &      extent,
-                              bool                                 fullyConnected,
-                              SizeValueType                        run,
-                              SizeValueType                        line,
-                              TVisit &&                            visit);
+ForEachTouchingRunOfOtherSide(const RunLabeling & labeling, SizeValueType run, SizeValueType line, TVisit && visit);
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 

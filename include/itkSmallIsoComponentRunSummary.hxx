@@ -26,23 +26,21 @@ namespace SmallIsoComponentDetail
 {
 template <typename TPixel>
 void
-LabelBox(const TPixel *                             values,
-         const BlockSummary::IndexType &            extent,
-         const SmallIsoComponentThreshold<TPixel> & threshold,
-         bool                                       fullyConnected,
-         uint64_t                                   maximumComponentSize,
-         MultiThreaderBase *                        threader,
-         unsigned int                               workUnits,
-         SmallIsoComponentRunLabeling &             labeling)
+LabelBox(const TPixel *                  values,
+         const BlockSummary::IndexType & extent,
+         const RunEncoder<TPixel> &      encoder,
+         bool                            fullyConnected,
+         uint64_t                        maximumComponentSize,
+         MultiThreaderBase *             threader,
+         unsigned int                    workUnits,
+         RunLabeling &                   labeling)
 {
-  SmallIsoComponentWorkTeam team(threader, workUnits);
-  labeling.SetWorkTeam(&team);
+  WorkTeam team(threader, workUnits);
   labeling.Initialize({ extent[0], extent[1], extent[2] }, fullyConnected, workUnits);
-  threshold.Encode(values, labeling, threader, [](SizeValueType, SizeValueType) {});
-  labeling.AssembleRuns(threader);
-  labeling.LinkRuns(threader);
+  encoder.Encode(values, labeling, team);
+  labeling.AssembleRuns(team);
+  labeling.LinkRuns();
   labeling.LabelComponents(maximumComponentSize);
-  labeling.SetWorkTeam(nullptr);
 }
 
 template <typename TPixel>
@@ -56,13 +54,19 @@ SummarizeBox(const TPixel *                  values,
              MultiThreaderBase *             threader,
              unsigned int                    workUnits)
 {
-  const SmallIsoComponentThreshold<TPixel> threshold(isoValue);
-  ComponentRules                           boxRules = rules;
+  const Threshold<TPixel> threshold(isoValue);
+  ComponentRules          boxRules = rules;
   boxRules.AnyAbove = threshold.AnyAbove();
   boxRules.AnyBelow = threshold.AnyBelow();
-  SmallIsoComponentRunLabeling labeling;
-  LabelBox(
-    values, extent, threshold, boxRules.FullyConnected, boxRules.MaximumComponentSize, threader, workUnits, labeling);
+  RunLabeling labeling;
+  LabelBox(values,
+           extent,
+           RunEncoder<TPixel>(isoValue),
+           boxRules.FullyConnected,
+           boxRules.MaximumComponentSize,
+           threader,
+           workUnits,
+           labeling);
   BlockSummary summary = SummarizeLabeling(labeling, extent, imageSize, begin, boxRules);
   summary.Settle();
   return summary;
@@ -70,69 +74,34 @@ SummarizeBox(const TPixel *                  values,
 
 template <typename TVisit>
 void
-ForEachTouchingRunOfOtherSide(const SmallIsoComponentRunLabeling & labeling,
-                              const BlockSummary::IndexType &      extent,
-                              bool                                 fullyConnected,
-                              SizeValueType                        run,
-                              SizeValueType                        line,
-                              TVisit &&                            visit)
+ForEachTouchingRunOfOtherSide(const RunLabeling & labeling, SizeValueType run, SizeValueType line, TVisit && visit)
 {
+  const RunLabeling::RunTable table = labeling.GetRunTable();
   // Sides alternate along a line: the runs beside this one are the other side.
-  const SizeValueType lineBegin = labeling.GetLineRunsBegin(line);
-  const SizeValueType lineEnd = labeling.GetLineRunsEnd(line);
-  if (run > lineBegin)
+  if (run > table.LineBegin[line])
   {
     visit(run - 1);
   }
-  if (run + 1 < lineEnd)
+  if (run + 1 < table.LineBegin[line + 1])
   {
     visit(run + 1);
   }
-  const bool          above = labeling.IsRunAbove(run, line);
-  const SizeValueType allowance = fullyConnected ? 1 : 0;
-  const SizeValueType start = labeling.GetRunStart(run);
-  const SizeValueType from = start >= allowance ? start - allowance : 0;
-  const SizeValueType to = labeling.GetRunEnd(run, line) + allowance;
-  const auto          y = static_cast<int64_t>(line % extent[1]);
-  const auto          z = static_cast<int64_t>(line / extent[1]);
-  const int           reach = 1;
-  for (int dz = -reach; dz <= reach; ++dz)
-  {
-    for (int dy = -reach; dy <= reach; ++dy)
+  // In the neighbouring lines, every run of the other side that overlaps this one, or with
+  // full connectivity ends just before it or starts just after it.
+  const bool            above = table.IsAbove(run, line);
+  const SizeValueType   allowance = labeling.IsFullyConnected() ? 1 : 0;
+  const SizeValueType   start = table.Start[run];
+  const SizeValueType   from = start >= allowance ? start - allowance : 0;
+  const SizeValueType   to = table.End(run, line) + allowance;
+  const LineNeighbors & neighbors = labeling.GetLineNeighbors();
+  neighbors.ForEachNeighbor(neighbors.At(line), [&](SizeValueType other) {
+    SizeValueType touching = table.RunHolding(other, from);
+    touching += table.IsAbove(touching, other) == above ? 1 : 0;
+    for (; touching < table.LineBegin[other + 1] && table.Start[touching] < to; touching += 2)
     {
-      const int moved = (dy != 0 ? 1 : 0) + (dz != 0 ? 1 : 0);
-      if (moved == 0 || (!fullyConnected && moved > 1) || y + dy < 0 || z + dz < 0 ||
-          y + dy >= static_cast<int64_t>(extent[1]) || z + dz >= static_cast<int64_t>(extent[2]))
-      {
-        continue;
-      }
-      const auto          other = static_cast<SizeValueType>((y + dy) + static_cast<int64_t>(extent[1]) * (z + dz));
-      const SizeValueType otherBegin = labeling.GetLineRunsBegin(other);
-      const SizeValueType otherEnd = labeling.GetLineRunsEnd(other);
-      // The last run starting at or before from, then every run that starts before to.
-      SizeValueType low = otherBegin;
-      SizeValueType high = otherEnd;
-      while (high - low > 1)
-      {
-        const SizeValueType middle = low + (high - low) / 2;
-        if (labeling.GetRunStart(middle) <= from)
-        {
-          low = middle;
-        }
-        else
-        {
-          high = middle;
-        }
-      }
-      for (SizeValueType k = low; k < otherEnd && labeling.GetRunStart(k) < to; ++k)
-      {
-        if (labeling.IsRunAbove(k, other) != above)
-        {
-          visit(k);
-        }
-      }
+      visit(touching);
     }
-  }
+  });
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -20,7 +20,7 @@
 
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunLabeling.h"
-#include "itkSmallIsoComponentThreshold.h"
+#include "itkSmallIsoComponentRunEncoder.h"
 #include <deque>
 #include <functional>
 #include <memory>
@@ -152,15 +152,16 @@ private:
   void
   UpdateMemory();
 
-  IndexType                          m_Size;
-  uint64_t                           m_PlaneVoxels;
-  SmallIsoComponentThreshold<TPixel> m_Threshold;
-  ComponentRules                     m_Rules;
-  uint64_t                           m_SlabPlanes;
-  bool                               m_WithMask;
-  MultiThreaderBase *                m_Threader;
-  unsigned int                       m_WorkUnits;
-  PlaneCallback                      m_Emit;
+  IndexType           m_Size;
+  uint64_t            m_PlaneVoxels;
+  Threshold<TPixel>   m_Threshold;
+  RunEncoder<TPixel>  m_Encoder;
+  ComponentRules      m_Rules;
+  uint64_t            m_SlabPlanes;
+  bool                m_WithMask;
+  MultiThreaderBase * m_Threader;
+  unsigned int        m_WorkUnits;
+  PlaneCallback       m_Emit;
 
   std::vector<TPixel>               m_Pending;
   uint64_t                          m_PlanesIn{ 0 };

@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentStreamingSweep_hxx
 
 #include "itkSmallIsoComponentStreamingSweep.h"
+#include "itkSmallIsoComponentRepairMean.h"
 #include "itkSmallIsoComponentRunSummary.h"
 #include "itkMath.h"
 #include <algorithm>
@@ -45,14 +46,14 @@ struct StreamingSweep<TPixel>::Slab
     TPixel   Value;
   };
 
-  uint64_t                     Begin{ 0 };
-  uint64_t                     End{ 0 };
-  std::vector<TPixel>          Values;
-  SmallIsoComponentRunLabeling Labeling;
-  std::vector<Track>           Tracks;
+  uint64_t            Begin{ 0 };
+  uint64_t            End{ 0 };
+  std::vector<TPixel> Values;
+  RunLabeling         Labeling;
+  std::vector<Track>  Tracks;
   /** The runs of each component of at most K voxels: CandidateBegin[c] .. CandidateBegin[c + 1]. */
-  std::vector<SizeValueType>                         CandidateBegin;
-  std::vector<SmallIsoComponentRunLabeling::LineRun> Candidates;
+  std::vector<SizeValueType>        CandidateBegin;
+  std::vector<RunLabeling::LineRun> Candidates;
   /** Components not decided yet, or decided but not written yet. */
   std::vector<SizeValueType> Unsettled;
   /** Per plane of the slab, the repaired voxels in the order they were written. */
@@ -63,7 +64,7 @@ struct StreamingSweep<TPixel>::Slab
   {
     SizeValueType bytes = Values.capacity() * sizeof(TPixel) + Labeling.GetMemoryInBytes() +
                           Tracks.capacity() * sizeof(Track) + CandidateBegin.capacity() * sizeof(SizeValueType) +
-                          Candidates.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) +
+                          Candidates.capacity() * sizeof(RunLabeling::LineRun) +
                           Unsettled.capacity() * sizeof(SizeValueType);
     for (const auto & plane : Repairs)
     {
@@ -87,6 +88,7 @@ StreamingSweep<TPixel>::StreamingSweep(const IndexType &            size,
   : m_Size(size)
   , m_PlaneVoxels(size[0] * size[1])
   , m_Threshold(isoValue)
+  , m_Encoder(isoValue)
   , m_SlabPlanes(std::max<uint64_t>(1, slabPlanes))
   , m_WithMask(withMask)
   , m_Threader(threader)
@@ -180,7 +182,7 @@ StreamingSweep<TPixel>::ProcessSlab()
   const IndexType extent{ m_Size[0], m_Size[1], planes };
   LabelBox(s.Values.data(),
            extent,
-           m_Threshold,
+           m_Encoder,
            m_Rules.FullyConnected,
            m_Rules.MaximumComponentSize,
            m_Threader,
@@ -190,8 +192,8 @@ StreamingSweep<TPixel>::ProcessSlab()
   std::vector<uint8_t> small(components, 0);
   for (SizeValueType c = 0; c < components; ++c)
   {
-    small[c] = s.Labeling.GetComponentSize(static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c)) <=
-               m_Rules.MaximumComponentSize;
+    small[c] =
+      s.Labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <= m_Rules.MaximumComponentSize;
   }
   // The runs of the small components, grouped by component (in run order within each).
   {
@@ -199,7 +201,7 @@ StreamingSweep<TPixel>::ProcessSlab()
     s.CandidateBegin.assign(components + 1, 0);
     for (const auto & run : runs)
     {
-      ++s.CandidateBegin[s.Labeling.GetRunComponent(run.Run) + 1];
+      ++s.CandidateBegin[s.Labeling.GetRunTable().Component[run.Run] + 1];
     }
     for (SizeValueType c = 0; c < components; ++c)
     {
@@ -209,7 +211,7 @@ StreamingSweep<TPixel>::ProcessSlab()
     s.Candidates.resize(runs.size());
     for (const auto & run : runs)
     {
-      s.Candidates[next[s.Labeling.GetRunComponent(run.Run)]++] = run;
+      s.Candidates[next[s.Labeling.GetRunTable().Component[run.Run]]++] = run;
     }
   }
   s.Repairs.resize(planes);
@@ -341,16 +343,9 @@ StreamingSweep<TPixel>::IsBelowAfterAbovePass(uint64_t x, uint64_t y, uint64_t z
     return true;
   }
   // An above voxel is below after the above pass when its component was removed.
-  const auto &        labeling = slab.Labeling;
-  const SizeValueType line = y + m_Size[1] * (z - slab.Begin);
-  SizeValueType       low = labeling.GetLineRunsBegin(line);
-  SizeValueType       high = labeling.GetLineRunsEnd(line);
-  while (high - low > 1)
-  {
-    const SizeValueType middle = low + (high - low) / 2;
-    (labeling.GetRunStart(middle) <= x ? low : high) = middle;
-  }
-  return slab.Tracks[labeling.GetRunComponent(low)].AbovePass == State::Removed;
+  const RunLabeling::RunTable table = slab.Labeling.GetRunTable();
+  const SizeValueType         line = y + m_Size[1] * (z - slab.Begin);
+  return slab.Tracks[table.Component[table.RunHolding(line, x)]].AbovePass == State::Removed;
 }
 
 template <typename TPixel>
@@ -369,18 +364,17 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
     }
     return this->IsBelowAfterAbovePass(x, y, z, value);
   };
-  const auto & labeling = slab.Labeling;
+  const RunLabeling::RunTable table = slab.Labeling.GetRunTable();
   for (SizeValueType i = slab.CandidateBegin[component]; i < slab.CandidateBegin[component + 1]; ++i)
   {
     const auto &        run = slab.Candidates[i];
     const SizeValueType y = run.Line % m_Size[1];
     const SizeValueType zInSlab = run.Line / m_Size[1];
     const uint64_t      z = slab.Begin + zInSlab;
-    const SizeValueType end = labeling.GetRunEnd(run.Run, run.Line);
-    for (SizeValueType x = labeling.GetRunStart(run.Run); x < end; ++x)
+    const SizeValueType end = table.End(run.Run, run.Line);
+    for (SizeValueType x = table.Start[run.Run]; x < end; ++x)
     {
-      double                        sum = 0.0;
-      unsigned int                  found = 0;
+      RepairMean                    mean;
       const std::array<uint64_t, 3> at{ x, y, z };
       for (unsigned int axis = 0; axis < 3; ++axis)
       {
@@ -397,11 +391,7 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
             TPixel value;
             if (!sameSide(p[0], p[1], p[2], value))
             {
-              if (value == value)
-              {
-                sum += static_cast<double>(value);
-                ++found;
-              }
+              mean.Add(value);
               break;
             }
           }
@@ -409,17 +399,9 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
       }
       TPixel  repaired = fallback;
       uint8_t maskValue = abovePass ? 1 : 2;
-      if (found > 0)
+      if (mean.GetCount() > 0)
       {
-        const double mean = sum / found;
-        if constexpr (std::is_integral<TPixel>::value)
-        {
-          repaired = static_cast<TPixel>(Math::Round<int64_t>(mean));
-        }
-        else
-        {
-          repaired = static_cast<TPixel>(mean);
-        }
+        repaired = mean.Get<TPixel>();
       }
       else
       {

@@ -114,24 +114,13 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
       this->Join(flipped, below);
     }
   };
-  // The below runs of line \a other that overlap [from, to). The run that holds from
-  // (the last one starting at or before it; the line's first run starts at 0) is found
-  // by a binary search without branches, which the run starts would make unpredictable.
+  // The below runs of line \a other that overlap [from, to): sides alternate, so every
+  // other run from the run that holds from if it is below, else from the run after it.
   const auto joinOverlapping =
     [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to) {
-      const SizeValueType    otherBegin = lineRunBegin[other];
-      const SizeValueType    otherEnd = lineRunBegin[other + 1];
-      const CoordinateType * holder = runStart + otherBegin;
-      for (SizeValueType candidates = otherEnd - otherBegin; candidates > 1;)
-      {
-        const SizeValueType half = candidates / 2;
-        holder = holder[half] <= from ? holder + half : holder;
-        candidates -= half;
-      }
-      // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
-      // every other run from the holder if it is below, else from the run after it.
-      auto below = static_cast<SizeValueType>(holder - runStart);
-      below += (lineFirstAbove[other] != 0) != (((below - otherBegin) & 1) != 0) ? 1 : 0;
+      const SizeValueType otherEnd = lineRunBegin[other + 1];
+      SizeValueType       below = table.RunHolding(other, from);
+      below += table.IsAbove(below, other) ? 1 : 0;
       for (; below < otherEnd && runStart[below] < to; below += 2)
       {
         join(flipped, component[below]);

@@ -28,11 +28,11 @@ BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side)
 }
 
 BlockSummary
-SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
-                  const BlockSummary::IndexType &      extent,
-                  const BlockSummary::IndexType &      imageSize,
-                  const BlockSummary::IndexType &      begin,
-                  const ComponentRules &               rules)
+SummarizeLabeling(const RunLabeling &             labeling,
+                  const BlockSummary::IndexType & extent,
+                  const BlockSummary::IndexType & imageSize,
+                  const BlockSummary::IndexType & begin,
+                  const ComponentRules &          rules)
 {
   using NodeType = BlockSummary::NodeType;
   const BlockSummary::IndexType end{ begin[0] + extent[0], begin[1] + extent[1], begin[2] + extent[2] };
@@ -40,23 +40,22 @@ SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
   const SizeValueType           components = labeling.GetNumberOfComponents();
   for (SizeValueType c = 0; c < components; ++c)
   {
-    const auto component = static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c);
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
     summary.AddComponent(labeling.IsComponentAbove(component), labeling.GetComponentSize(component));
   }
 
   // The faces inside the image: the components of the voxels along them.
-  const SizeValueType nx = extent[0];
-  const SizeValueType ny = extent[1];
-  const SizeValueType nz = extent[2];
-  const auto componentOf = [&](SizeValueType run) { return static_cast<NodeType>(labeling.GetRunComponent(run)); };
+  const SizeValueType         nx = extent[0];
+  const SizeValueType         ny = extent[1];
+  const SizeValueType         nz = extent[2];
+  const RunLabeling::RunTable table = labeling.GetRunTable();
+  const auto componentOf = [&](SizeValueType run) { return static_cast<NodeType>(table.Component[run]); };
   // Writes the components of line \a line into layer[first...] (one per voxel).
   const auto fillLine = [&](std::vector<NodeType> & layer, SizeValueType first, SizeValueType line) {
-    const SizeValueType runsEnd = labeling.GetLineRunsEnd(line);
-    for (SizeValueType run = labeling.GetLineRunsBegin(line); run < runsEnd; ++run)
+    for (SizeValueType run = table.LineBegin[line]; run < table.LineBegin[line + 1]; ++run)
     {
-      std::fill(layer.begin() + first + labeling.GetRunStart(run),
-                layer.begin() + first + labeling.GetRunEnd(run, line),
-                componentOf(run));
+      std::fill(
+        layer.begin() + first + table.Start[run], layer.begin() + first + table.End(run, line), componentOf(run));
     }
   };
   for (const bool upper : { false, true })
@@ -66,7 +65,7 @@ SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
       std::vector<NodeType> layer(ny * nz);
       for (SizeValueType line = 0; line < ny * nz; ++line)
       {
-        layer[line] = componentOf(upper ? labeling.GetLineRunsEnd(line) - 1 : labeling.GetLineRunsBegin(line));
+        layer[line] = componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]);
       }
       summary.SetFaceLayer(0, upper, std::move(layer));
     }
@@ -98,7 +97,7 @@ SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
   bool                 any = false;
   for (SizeValueType c = 0; c < components; ++c)
   {
-    const auto component = static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c);
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
     possiblySmall[c] =
       labeling.IsComponentAbove(component) && summary.NeedsTouching(labeling.GetComponentSize(component));
     any = any || possiblySmall[c];
@@ -109,15 +108,14 @@ SummarizeLabeling(const SmallIsoComponentRunLabeling & labeling,
     {
       const NodeType above = componentOf(candidate.Run);
       NodeType       last = BlockSummary::NoNode;
-      ForEachTouchingRunOfOtherSide(
-        labeling, extent, rules.FullyConnected, candidate.Run, candidate.Line, [&](SizeValueType other) {
-          const NodeType below = componentOf(other);
-          if (below != last)
-          {
-            summary.AddTouching(above, below);
-            last = below;
-          }
-        });
+      ForEachTouchingRunOfOtherSide(labeling, candidate.Run, candidate.Line, [&](SizeValueType other) {
+        const NodeType below = componentOf(other);
+        if (below != last)
+        {
+          summary.AddTouching(above, below);
+          last = below;
+        }
+      });
     }
   }
   return summary;

@@ -204,7 +204,7 @@ template <typename TPixel>
 LabelledBox
 LabelBoxWithRuns(const Volume &                                  volume,
                  const std::vector<TPixel> &                     values,
-                 const SmallIsoComponentThreshold<TPixel> &      threshold,
+                 double                                          isoValue,
                  const Box &                                     box,
                  const SmallIsoComponentDetail::ComponentRules & rules,
                  Summary &                                       summary)
@@ -223,22 +223,26 @@ LabelBoxWithRuns(const Volume &                                  volume,
       {
         boxValues.push_back(values[volume.Index(x, y, z)]);
       }
-  auto                         threader = MultiThreaderBase::New();
-  SmallIsoComponentRunLabeling labeling;
-  labeling.Initialize({ extent[0], extent[1], extent[2] }, rules.FullyConnected, 1);
-  threshold.Encode(boxValues.data(), labeling, threader, [](SizeValueType, SizeValueType) {});
-  labeling.AssembleRuns(threader);
-  labeling.LinkRuns(threader);
-  labeling.LabelComponents(rules.MaximumComponentSize);
+  auto                                 threader = MultiThreaderBase::New();
+  SmallIsoComponentDetail::RunLabeling labeling;
+  SmallIsoComponentDetail::LabelBox(boxValues.data(),
+                                    extent,
+                                    SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue),
+                                    rules.FullyConnected,
+                                    rules.MaximumComponentSize,
+                                    threader,
+                                    1,
+                                    labeling);
   summary = SmallIsoComponentDetail::SummarizeLabeling(labeling, extent, volume.Size, box[0], rules);
   labelled.Label.resize(boxValues.size());
+  const auto table = labeling.GetRunTable();
   for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
   {
-    for (SizeValueType run = labeling.GetLineRunsBegin(line); run < labeling.GetLineRunsEnd(line); ++run)
+    for (SizeValueType run = table.LineBegin[line]; run < table.LineBegin[line + 1]; ++run)
     {
-      for (SizeValueType x = labeling.GetRunStart(run); x < labeling.GetRunEnd(run, line); ++x)
+      for (SizeValueType x = table.Start[run]; x < table.End(run, line); ++x)
       {
-        labelled.Label[line * extent[0] + x] = labeling.GetRunComponent(run);
+        labelled.Label[line * extent[0] + x] = table.Component[run];
       }
     }
   }
@@ -270,10 +274,10 @@ CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes, 
   unsigned int withManyBoxes = 0;
   for (uint32_t seed = firstSeed; seed < firstSeed + numberOfVolumes && failures < 5; ++seed)
   {
-    const auto                               c = MakeRandomCase<TPixel, TPixel, VDimension>(seed);
-    const auto                               expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
-    const SmallIsoComponentThreshold<TPixel> threshold(c.Settings.IsoValue);
-    Volume                                   volume;
+    const auto c = MakeRandomCase<TPixel, TPixel, VDimension>(seed);
+    const auto expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
+    const SmallIsoComponentDetail::Threshold<TPixel> threshold(c.Settings.IsoValue);
+    Volume                                           volume;
     for (unsigned int a = 0; a < VDimension; ++a)
     {
       volume.Size[a] = c.Size[a];
@@ -311,7 +315,7 @@ CheckSummariesOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes, 
           const Box box{ std::array<uint64_t, 3>{ cuts[0][i], cuts[1][j], cuts[2][k] },
                          std::array<uint64_t, 3>{ cuts[0][i + 1], cuts[1][j + 1], cuts[2][k + 1] } };
           Summary   summary(volume.Size, box[0], box[1], rules);
-          boxes.push_back(withRuns ? LabelBoxWithRuns(volume, c.Values, threshold, box, rules, summary)
+          boxes.push_back(withRuns ? LabelBoxWithRuns(volume, c.Values, c.Settings.IsoValue, box, rules, summary)
                                    : LabelBox(volume, box, rules, summary));
           std::vector<Summary::Resolution> resolutions;
           summary.Settle(&resolutions);

@@ -63,8 +63,8 @@ ChunkedDifferences(const RandomCase<TPixel, VDimension> & c, uint64_t halo, Rand
     size[1] = c.Size[1];
     size[2] = c.Size[2];
   }
-  const SmallIsoComponentThreshold<TPixel> threshold(c.Settings.IsoValue);
-  SmallIsoComponentDetail::ComponentRules  rules;
+  const SmallIsoComponentDetail::Threshold<TPixel> threshold(c.Settings.IsoValue);
+  SmallIsoComponentDetail::ComponentRules          rules;
   rules.MaximumComponentSize = c.Settings.MaximumComponentSize;
   rules.Side = c.Settings.Side;
   rules.FullyConnected = c.Settings.FullyConnected;

@@ -20,6 +20,7 @@
 
 #include "itkImage.h"
 #include "itkSmallIsoComponentEnums.h"
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -388,8 +389,7 @@ RepairValue(const Grid<VDimension> &    grid,
             SizeValueType               v,
             TPixel &                    value)
 {
-  double       sum = 0.0;
-  unsigned int found = 0;
+  std::vector<double> found;
   for (unsigned int axis = 0; axis < VDimension; ++axis)
   {
     for (const int direction : { -1, 1 })
@@ -407,19 +407,38 @@ RepairValue(const Grid<VDimension> &    grid,
         {
           if (!IsNaN(u))
           {
-            sum += static_cast<double>(u);
-            ++found;
+            found.push_back(static_cast<double>(u));
           }
           break;
         }
       }
     }
   }
-  if (found == 0)
+  if (found.empty())
   {
     return false;
   }
-  value = MeanAsPixel<TPixel>(sum / found);
+  const auto count = static_cast<double>(found.size());
+  double     sum = 0.0;
+  bool       infinite = false;
+  for (const double u : found)
+  {
+    sum += u;
+    infinite = infinite || std::isinf(u);
+  }
+  double mean = sum / count;
+  if (std::isinf(sum) && !infinite)
+  {
+    // The sum of finite doubles overflowed: the mean of the values divided by 16, times 16,
+    // within the finite doubles.
+    double scaled = 0.0;
+    for (const double u : found)
+    {
+      scaled += u / 16.0;
+    }
+    mean = std::clamp(scaled / count * 16.0, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  }
+  value = MeanAsPixel<TPixel>(mean);
   return true;
 }
 
