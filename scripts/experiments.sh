@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Runs SmallIsoComponentReport over every volume of DATA_DIR (the Open SciVis volumes) and writes docs/experiments.md with its tables, the curves of an
-# isovalue sweep and a size sweep per volume (docs/experiments/*.png), and what they show.
+# Runs SmallIsoComponentReport over every volume of DATA_DIR (the Open SciVis volumes) and
+# writes docs/experiments.md with its tables, the curves of an isovalue sweep and a size sweep
+# per volume (docs/experiments/*.png), and what they show.
 # Usage: scripts/experiments.sh [DATA_DIR]   (default: $SMALLISO_DATA_DIR, else the data folder
 #        of the project's shared files; tool: $SMALLISO_BUILD_DIR/apps/SmallIsoComponentReport,
 #        default build directory ./build)
