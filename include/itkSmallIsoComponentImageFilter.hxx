@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentImageFilter_hxx
 
 #include "itkSmallIsoComponentImageFilter.h"
+#include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkSmallIsoComponentSizeCounter.h"
@@ -267,11 +268,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ComputeEffectiveMaximum
   {
     voxelVolume *= spacing[a];
   }
-  // A relative tolerance keeps volume = k * voxel volume from rounding down to k - 1.
-  const double voxels = m_MaximumComponentVolume / voxelVolume * (1.0 + 1e-12);
-  return voxels >= static_cast<double>(NumericTraits<SizeValueType>::max())
-           ? NumericTraits<SizeValueType>::max()
-           : static_cast<SizeValueType>(std::floor(voxels));
+  return static_cast<SizeValueType>(
+    SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume));
 }
 
 template <typename TInputImage, typename TOutputImage>
