@@ -216,8 +216,8 @@ step_fetch() {
   [[ -f ${itk_source}/CMakeLists.txt ]] || die "no ITK source tree at ${itk_source}"
 }
 
-# Fixes for tools newer than ITK 5.2.1 (explained in docs/itk-versions.md). Each is applied
-# once; a rerun finds it applied. ITK 5.4 and 6 need none.
+# Fixes for tools newer than ITK 5.2.1, and for Debian 12's SWIG under ITK 5.4 (explained in
+# docs/itk-versions.md). Each is applied once; a rerun finds it applied.
 apply_patch() {
   local name=$1 patch_text
   patch_text=$(cat)
@@ -230,6 +230,17 @@ apply_patch() {
 }
 
 step_patch() {
+  if [[ ${version} == 5.4.7 ]]; then
+    # ITK 5.4's Python wrapping calls SWIG_Py_DECREF, a macro that SWIG 4.2 added for
+    # Py_DECREF; Debian 12 has SWIG 4.1.
+    local file
+    grep -rl --include='*.i' --include='*.hxx' --include='CMakeLists.txt' SWIG_Py_ "${itk_source}/Wrapping" \
+      "${itk_source}/Modules/Bridge/NumPy" 2>/dev/null | while read -r file; do
+      sed -i 's/SWIG_Py_DECREF/Py_DECREF/g; s/SWIG_Py_XDECREF/Py_XDECREF/g' "${file}"
+      log "patch swig-4.1: ${file#"${itk_source}"/}"
+    done
+    return 0
+  fi
   [[ ${version} == 5.2.1 ]] || return 0
   # CastXML 0.5.1 is clang 14, which (unlike GCC) leaves C++14 sized deallocation off;
   # parsing GCC 12's <bits/new_allocator.h> then fails. The flag has to reach clang itself,
