@@ -361,6 +361,46 @@ TEST(SmallIsoComponentBehaviour, NaNIsBelowAndNeverARepairValue)
   EXPECT_EQ(Values(pair->GetOutput()), (std::vector<float>{ 2, 2, 2, 2, 2, 2, 2.25f, 2, 2, 2, 3, 2 }));
 }
 
+TEST(SmallIsoComponentBehaviour, DoubleRepairValuesNeverOverflow)
+{
+  // A bubble inside samples near the largest double, and a speck inside samples near the
+  // lowest: the sums of their six walks' values overflow, their means do not.
+  constexpr double    huge = 1.7e308;
+  constexpr unsigned  n = 3;
+  std::vector<double> values(n * n * n, huge);
+  values[13] = 0.0;
+  const auto   bubble = MakeImage<double, 3>({ n, n, n }, values);
+  const auto   settings = Settings(1.0, 1, SideEnum::Both);
+  const auto   filled = RunFilter<Image3D<double>>(bubble.GetPointer(), settings);
+  const double repaired = filled->GetOutput()->GetBufferPointer()[13];
+  EXPECT_TRUE(std::isfinite(repaired));
+  EXPECT_NEAR(repaired / huge, 1.0, 1e-15);
+  EXPECT_EQ(Values(filled->GetOutput()), Reference::Run<double>(bubble.GetPointer(), settings).Output);
+
+  std::vector<double> negative(n * n * n, -huge);
+  negative[13] = 0.0;
+  const auto speck = MakeImage<double, 3>({ n, n, n }, negative);
+  const auto lowered = RunFilter<Image3D<double>>(speck.GetPointer(), Settings(-1.0, 1, SideEnum::Above));
+  EXPECT_TRUE(std::isfinite(lowered->GetOutput()->GetBufferPointer()[13]));
+  EXPECT_NEAR(lowered->GetOutput()->GetBufferPointer()[13] / -huge, 1.0, 1e-15);
+
+  // Three huge values and three small ones: the mean is half the huge one.
+  values.assign(n * n * n, 0.0);
+  for (const unsigned v : { 4u, 10u, 12u })
+  {
+    values[v] = huge;
+  }
+  for (const unsigned v : { 14u, 16u, 22u })
+  {
+    values[v] = 1.0;
+  }
+  const auto mixed = MakeImage<double, 3>({ n, n, n }, values);
+  const auto halved = RunFilter<Image3D<double>>(mixed.GetPointer(), Settings(0.5, 1, SideEnum::Below));
+  EXPECT_NEAR(halved->GetOutput()->GetBufferPointer()[13] / (huge / 2), 1.0, 1e-15);
+  EXPECT_EQ(Values(halved->GetOutput()),
+            Reference::Run<double>(mixed.GetPointer(), Settings(0.5, 1, SideEnum::Below)).Output);
+}
+
 TEST(SmallIsoComponentBehaviour, ZeroMaximumSizeChangesNothingButCounts)
 {
   const auto c = MakeRandomCase<uint8_t, uint8_t, 3>(424242);

@@ -20,6 +20,7 @@
 
 #include "itkImage.h"
 #include "itkSmallIsoComponentEnums.h"
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -74,6 +75,8 @@ struct Result
   SideStatistics       Below;
   SizeValueType        ModifiedVoxels{ 0 };
   SizeValueType        UnrepairableVoxels{ 0 };
+  /** The part of UnrepairableVoxels that got the fallback value (every walk left the image). */
+  SizeValueType FallbackVoxels{ 0 };
 };
 
 /** A voxel grid of VDimension axes, axis 0 varying fastest (ITK's buffer order). */
@@ -386,8 +389,7 @@ RepairValue(const Grid<VDimension> &    grid,
             SizeValueType               v,
             TPixel &                    value)
 {
-  double       sum = 0.0;
-  unsigned int found = 0;
+  std::vector<double> found;
   for (unsigned int axis = 0; axis < VDimension; ++axis)
   {
     for (const int direction : { -1, 1 })
@@ -405,19 +407,38 @@ RepairValue(const Grid<VDimension> &    grid,
         {
           if (!IsNaN(u))
           {
-            sum += static_cast<double>(u);
-            ++found;
+            found.push_back(static_cast<double>(u));
           }
           break;
         }
       }
     }
   }
-  if (found == 0)
+  if (found.empty())
   {
     return false;
   }
-  value = MeanAsPixel<TPixel>(sum / found);
+  const auto count = static_cast<double>(found.size());
+  double     sum = 0.0;
+  bool       infinite = false;
+  for (const double u : found)
+  {
+    sum += u;
+    infinite = infinite || std::isinf(u);
+  }
+  double mean = sum / count;
+  if (std::isinf(sum) && !infinite)
+  {
+    // The sum of finite doubles overflowed: the mean of the values divided by 16, times 16,
+    // within the finite doubles.
+    double scaled = 0.0;
+    for (const double u : found)
+    {
+      scaled += u / 16.0;
+    }
+    mean = std::clamp(scaled / count * 16.0, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  }
+  value = MeanAsPixel<TPixel>(mean);
   return true;
 }
 
@@ -433,7 +454,8 @@ RemovalPass(const Grid<VDimension> & grid,
             std::vector<TPixel> &    image,
             std::vector<uint8_t> &   mask,
             SideStatistics &         statistics,
-            SizeValueType &          unrepairable)
+            SizeValueType &          unrepairable,
+            SizeValueType &          fallbacks)
 {
   std::vector<SizeValueType> label;
   std::vector<SizeValueType> componentSizes;
@@ -474,6 +496,7 @@ RemovalPass(const Grid<VDimension> & grid,
     {
       image[v] = fallback;
       ++unrepairable;
+      ++fallbacks;
     }
     mask[v] = maskValue;
   }
@@ -498,7 +521,16 @@ Run(const std::array<SizeValueType, VDimension> & size,
   {
     // Only pass A changes the image; the below statistics describe the input.
     std::vector<TOutputPixel> unchanged = result.Output;
-    RemovalPass(grid, parameters, false, false, 2, unchanged, result.Mask, result.Below, result.UnrepairableVoxels);
+    RemovalPass(grid,
+                parameters,
+                false,
+                false,
+                2,
+                unchanged,
+                result.Mask,
+                result.Below,
+                result.UnrepairableVoxels,
+                result.FallbackVoxels);
   }
   RemovalPass(grid,
               parameters,
@@ -508,11 +540,21 @@ Run(const std::array<SizeValueType, VDimension> & size,
               result.Output,
               result.Mask,
               result.Above,
-              result.UnrepairableVoxels);
+              result.UnrepairableVoxels,
+              result.FallbackVoxels);
   if (parameters.Side != SideEnum::Above)
   {
     // Pass B sees the result of pass A (the input itself when pass A did not run).
-    RemovalPass(grid, parameters, false, true, 2, result.Output, result.Mask, result.Below, result.UnrepairableVoxels);
+    RemovalPass(grid,
+                parameters,
+                false,
+                true,
+                2,
+                result.Output,
+                result.Mask,
+                result.Below,
+                result.UnrepairableVoxels,
+                result.FallbackVoxels);
   }
   for (const uint8_t m : result.Mask)
   {

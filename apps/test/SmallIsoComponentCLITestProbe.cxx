@@ -36,7 +36,8 @@
 #include "sicScalarImageDispatch.h"
 
 #include "itkImageRegionConstIterator.h"
-#include "itkImageRegionIterator.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIteratorWithIndex.h"
 #include "itkRGBPixel.h"
 
 #include <cmath>
@@ -69,7 +70,7 @@ MakeImage(const std::string & path)
   image->SetOrigin(origin);
   image->Allocate();
   image->FillBuffer(10);
-  itk::ImageRegionIterator<TImage> it(image, image->GetLargestPossibleRegion());
+  itk::ImageRegionIteratorWithIndex<TImage> it(image, image->GetLargestPossibleRegion());
   for (; !it.IsAtEnd(); ++it)
   {
     const auto & index = it.GetIndex();
@@ -135,8 +136,9 @@ Equal(const std::string & first, const std::string & second)
     std::cout << "different grids" << std::endl;
     return 1;
   }
-  itk::ImageRegionConstIterator<TImage> itA(a, a->GetLargestPossibleRegion());
-  itk::ImageRegionConstIterator<TImage> itB(b, b->GetLargestPossibleRegion());
+  // The index of a difference is reported, so the first image's iterator keeps it.
+  itk::ImageRegionConstIteratorWithIndex<TImage> itA(a, a->GetLargestPossibleRegion());
+  itk::ImageRegionConstIterator<TImage>          itB(b, b->GetLargestPossibleRegion());
   for (; !itA.IsAtEnd(); ++itA, ++itB)
   {
     const double va = static_cast<double>(itA.Get());

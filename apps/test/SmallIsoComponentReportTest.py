@@ -197,6 +197,8 @@ class SmallIsoComponentReportTest(ToolTestCase):
             ([self.path("missing.nrrd"), "--isovalue", "3"], "missing.nrrd"),
             ([self.vector_image(), "--isovalue", "3"], "vector.nrrd"),
             ([image, "--isovalue", "3", "--plot-isovalue", "4", "--plot", self.path("p.png")], "--plot-isovalue"),
+            ([image, "--isovalue", "3", "--threads", "1000000"], "--threads 1000000 is too many"),
+            ([image, "--isovalue", "3", "--output="], "--output is empty; expected a file path"),
         ]
         for arguments, words in cases:
             with self.subTest(arguments=arguments[1:]):

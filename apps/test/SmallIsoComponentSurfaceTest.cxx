@@ -22,6 +22,7 @@
 
 #include "itkSmallIsoComponentImageFilter.h"
 #include "itkSmallIsoComponentReference.h"
+#include "sicPlatform.h"
 #include "sicSplitMix64.h"
 #include "sicSurface.h"
 
@@ -46,7 +47,6 @@
 #include <iostream>
 #include <map>
 #include <numeric>
-#include <unistd.h>
 #include <set>
 #include <string>
 #include <vector>
@@ -399,9 +399,10 @@ FilesReadBack()
   double bounds[6];
   surface->GetBounds(bounds);
 
+  std::error_code             created;
   const std::filesystem::path directory =
-    std::filesystem::temp_directory_path() / ("sic-surface-test-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(directory);
+    sic::CreateUniqueDirectory(std::filesystem::temp_directory_path(), "sic-surface-test-", created);
+  CHECK(!directory.empty(), "a scratch directory: " << created.message());
   const auto check = [&](const std::string & extension, vtkPolyData * read, bool indexed) {
     CHECK(TriangleCount(read) == triangles,
           extension << ": " << TriangleCount(read) << " triangles, expected " << triangles);

@@ -1,0 +1,160 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicImageFiles.h"
+
+#include "itkImageIOFactory.h"
+
+#include <filesystem>
+
+namespace sic
+{
+namespace
+{
+struct PixelTypeEntry
+{
+  itk::IOComponentEnum ComponentType;
+  const char *         Name;
+};
+
+// The types sicScalarImageDispatch.h instantiates the tools for.
+constexpr PixelTypeEntry SupportedTypes[] = {
+  { itk::IOComponentEnum::UCHAR, "uint8" },   { itk::IOComponentEnum::CHAR, "int8" },
+  { itk::IOComponentEnum::USHORT, "uint16" }, { itk::IOComponentEnum::SHORT, "int16" },
+  { itk::IOComponentEnum::UINT, "uint32" },   { itk::IOComponentEnum::INT, "int32" },
+  { itk::IOComponentEnum::FLOAT, "float32" }, { itk::IOComponentEnum::DOUBLE, "float64" },
+};
+
+bool
+IsSupported(itk::IOComponentEnum componentType)
+{
+  for (const PixelTypeEntry & entry : SupportedTypes)
+  {
+    if (entry.ComponentType == componentType)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+} // namespace
+
+std::string
+PixelTypeName(itk::IOComponentEnum componentType)
+{
+  for (const PixelTypeEntry & entry : SupportedTypes)
+  {
+    if (entry.ComponentType == componentType)
+    {
+      return entry.Name;
+    }
+  }
+  return itk::ImageIOBase::GetComponentTypeAsString(componentType);
+}
+
+std::string
+SupportedPixelTypes()
+{
+  std::string names;
+  for (const PixelTypeEntry & entry : SupportedTypes)
+  {
+    names += (names.empty() ? "" : ", ") + std::string(entry.Name);
+  }
+  return names;
+}
+
+ScalarImageInfo
+ReadScalarImageInfo(const std::string & path, const std::string & what)
+{
+  const std::string quoted = "'" + path + "'";
+  std::error_code   error;
+  const auto        status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status))
+  {
+    throw ToolError("cannot read " + what + " " + quoted + ": no such file; expected an existing image file");
+  }
+  if (std::filesystem::is_directory(status))
+  {
+    throw ToolError("cannot read " + what + " " + quoted + ": it is a directory; expected an image file");
+  }
+  itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io)
+  {
+    throw ToolError("cannot read " + what + " " + quoted +
+                    ": not an image file ITK can read; expected e.g. NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), "
+                    "MetaImage (.mha, .mhd) or PNG");
+  }
+  io->SetFileName(path);
+  try
+  {
+    io->ReadImageInformation();
+  }
+  catch (const itk::ExceptionObject & exception)
+  {
+    throw ToolError("cannot read " + what + " " + quoted + ": " + OneLine(exception.GetDescription()));
+  }
+
+  ScalarImageInfo info;
+  info.ComponentType = io->GetComponentType();
+  info.Dimension = io->GetNumberOfDimensions();
+  if (io->GetNumberOfComponents() != 1)
+  {
+    throw ToolError(what + " " + quoted + " has " + std::to_string(io->GetNumberOfComponents()) +
+                    " components per pixel (" + itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
+                    "); expected a scalar image, one value per voxel");
+  }
+  if (!IsSupported(info.ComponentType))
+  {
+    throw ToolError(what + " " + quoted + " has pixel type " + PixelTypeName(info.ComponentType) +
+                    ", which is not supported; expected one of " + SupportedPixelTypes());
+  }
+  if (info.Dimension != 2 && info.Dimension != 3)
+  {
+    throw ToolError(what + " " + quoted + " is " + std::to_string(info.Dimension) + "-D; expected a 2-D or 3-D image");
+  }
+  for (unsigned int axis = 0; axis < info.Dimension; ++axis)
+  {
+    info.Size.push_back(io->GetDimensions(axis));
+    info.Spacing.push_back(io->GetSpacing(axis));
+    info.Origin.push_back(io->GetOrigin(axis));
+  }
+  return info;
+}
+
+void
+CheckImageFileFormat(const std::string & path, const std::string & what, unsigned int dimension)
+{
+  const itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::WriteMode);
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (!io)
+  {
+    throw ToolError("cannot write " + what + " '" + path + "': no ITK image writer handles the extension '" +
+                    extension + "'; expected e.g. .nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd or .png");
+  }
+  // These writers would silently keep only the first slice of a 3-D image.
+  const std::string format = io->GetNameOfClass();
+  const bool        twoDimensional = format == "PNGImageIO" || format == "BMPImageIO" || format == "JPEGImageIO";
+  if (twoDimensional && dimension > 2)
+  {
+    throw ToolError("cannot write " + what + " '" + path + "': the " + extension +
+                    " format stores 2-D images only and the image is " + std::to_string(dimension) +
+                    "-D; expected e.g. .nrrd, .nii.gz or .mha");
+  }
+}
+} // namespace sic

@@ -1,0 +1,416 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicPlatform.h"
+
+#include "sicToolError.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#ifdef _WIN32
+#  include <cstdio>
+#  include <io.h>
+#  include <random>
+#else
+#  include <cerrno>
+#  include <fcntl.h>
+#  include <poll.h>
+#  include <signal.h>
+#  include <spawn.h>
+#  include <sys/wait.h>
+#  include <unistd.h>
+
+extern char ** environ;
+#endif
+
+namespace sic
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+#ifdef _WIN32
+constexpr char     PathSeparator = ';';
+const char * const DefaultPath = "";
+const char * const ProgramSuffix = ".exe";
+#else
+constexpr char PathSeparator = ':';
+// What the exec functions search when $PATH is unset.
+const char * const DefaultPath = "/usr/bin:/bin";
+const char * const ProgramSuffix = "";
+#endif
+
+bool
+IsProgram(const fs::path & path)
+{
+  std::error_code error;
+#ifdef _WIN32
+  return fs::is_regular_file(path, error);
+#else
+  return ::access(path.c_str(), X_OK) == 0 && !fs::is_directory(path, error);
+#endif
+}
+} // namespace
+
+fs::path
+FindProgram(const std::string & name)
+{
+  const char *      path = std::getenv("PATH");
+  const std::string directories = path != nullptr ? path : DefaultPath;
+  size_t            begin = 0;
+  while (begin <= directories.size())
+  {
+    const size_t   end = std::min(directories.find(PathSeparator, begin), directories.size());
+    const fs::path directory = end == begin ? fs::path(".") : fs::path(directories.substr(begin, end - begin));
+    const fs::path candidate = directory / (name + ProgramSuffix);
+    if (IsProgram(candidate))
+    {
+      return candidate;
+    }
+    begin = end + 1;
+  }
+  return {};
+}
+
+#ifdef _WIN32
+// No POSIX here: std::filesystem and the C runtime where they do the job, a clear error
+// where they do not.
+
+namespace
+{
+std::string
+NotSupported(const fs::path & program)
+{
+  return "cannot run " + program.filename().string() +
+         ": starting other programs is not supported on this platform; expected a POSIX system";
+}
+} // namespace
+
+fs::path
+CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
+{
+  const char         letters[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+  std::random_device seed;
+  std::mt19937       random(seed());
+  for (int attempt = 0; attempt < 100; ++attempt)
+  {
+    std::string name = prefix;
+    for (int i = 0; i < 6; ++i)
+    {
+      name += letters[random() % (sizeof(letters) - 1)];
+    }
+    const fs::path directory = parent / name;
+    // create_directory is false, without an error, when the directory exists already.
+    if (fs::create_directory(directory, error))
+    {
+      return directory;
+    }
+    if (error)
+    {
+      return {};
+    }
+  }
+  error = std::make_error_code(std::errc::file_exists);
+  return {};
+}
+
+bool
+StandardErrorIsTerminal()
+{
+  return _isatty(_fileno(stderr)) != 0;
+}
+
+void
+SetEnvironmentVariable(const std::string & name, const std::string & value)
+{
+  _putenv_s(name.c_str(), value.c_str());
+}
+
+void
+UnsetEnvironmentVariable(const std::string & name)
+{
+  // An empty value removes the variable.
+  _putenv_s(name.c_str(), "");
+}
+
+bool
+CanStartPrograms()
+{
+  return false;
+}
+
+int
+RunProgram(const fs::path & program, const std::vector<std::string> &, const fs::path &)
+{
+  throw ToolError(NotSupported(program));
+}
+
+struct BackgroundProgram::Process
+{};
+
+BackgroundProgram::BackgroundProgram(const fs::path & program, const std::string &, const std::vector<std::string> &)
+{
+  throw ToolError(NotSupported(program));
+}
+
+BackgroundProgram::~BackgroundProgram() = default;
+
+std::string
+BackgroundProgram::ReadLine(std::chrono::milliseconds)
+{
+  return {};
+}
+
+#else
+
+namespace
+{
+/** argv for \a program and \a arguments: pointers into the strings, which must outlive it. */
+std::vector<char *>
+ArgumentVector(const fs::path & program, std::vector<std::string> & arguments)
+{
+  std::vector<char *> argv;
+  argv.push_back(const_cast<char *>(program.c_str()));
+  for (std::string & argument : arguments)
+  {
+    argv.push_back(argument.data());
+  }
+  argv.push_back(nullptr);
+  return argv;
+}
+} // namespace
+
+fs::path
+CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
+{
+  std::string pattern = (parent / (prefix + "XXXXXX")).string();
+  if (::mkdtemp(pattern.data()) == nullptr)
+  {
+    error = std::error_code(errno, std::generic_category());
+    return {};
+  }
+  error.clear();
+  return pattern;
+}
+
+bool
+StandardErrorIsTerminal()
+{
+  return ::isatty(STDERR_FILENO) != 0;
+}
+
+void
+SetEnvironmentVariable(const std::string & name, const std::string & value)
+{
+  ::setenv(name.c_str(), value.c_str(), 1);
+}
+
+void
+UnsetEnvironmentVariable(const std::string & name)
+{
+  ::unsetenv(name.c_str());
+}
+
+bool
+CanStartPrograms()
+{
+  return true;
+}
+
+int
+RunProgram(const fs::path & program, const std::vector<std::string> & arguments, const fs::path & log)
+{
+  std::vector<std::string>   copies = arguments;
+  std::vector<char *>        argv = ArgumentVector(program, copies);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t     child = 0;
+  const int spawned = posix_spawn(&child, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0)
+  {
+    return -1;
+  }
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0)
+  {
+    if (errno != EINTR)
+    {
+      return -1;
+    }
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+struct BackgroundProgram::Process
+{
+  pid_t Id{ -1 };
+  /** The read end of the program's pipe. */
+  int Pipe{ -1 };
+};
+
+BackgroundProgram::BackgroundProgram(const fs::path &                 program,
+                                     const std::string &              pipeFlag,
+                                     const std::vector<std::string> & arguments)
+  : m_Process(std::make_unique<Process>())
+{
+  int channel[2];
+  if (pipe(channel) != 0)
+  {
+    throw std::runtime_error("cannot start " + program.string() +
+                             ": pipe failed: " + std::error_code(errno, std::generic_category()).message());
+  }
+  std::vector<std::string> all = { pipeFlag, std::to_string(channel[1]) };
+  all.insert(all.end(), arguments.begin(), arguments.end());
+  std::vector<char *>        argv = ArgumentVector(program, all);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addclose(&actions, channel[0]);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  const int spawned = posix_spawn(&m_Process->Id, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(channel[1]);
+  if (spawned != 0)
+  {
+    close(channel[0]);
+    throw std::runtime_error("cannot start " + program.string() + ": " +
+                             std::error_code(spawned, std::generic_category()).message());
+  }
+  m_Process->Pipe = channel[0];
+}
+
+BackgroundProgram::~BackgroundProgram()
+{
+  close(m_Process->Pipe);
+  kill(m_Process->Id, SIGTERM);
+  waitpid(m_Process->Id, nullptr, 0);
+}
+
+std::string
+BackgroundProgram::ReadLine(std::chrono::milliseconds timeout)
+{
+  std::string text;
+  const auto  deadline = std::chrono::steady_clock::now() + timeout;
+  while (text.find('\n') == std::string::npos)
+  {
+    const auto left =
+      std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    pollfd wait{ m_Process->Pipe, POLLIN, 0 };
+    if (left <= 0 || poll(&wait, 1, static_cast<int>(left)) <= 0)
+    {
+      break;
+    }
+    char          chunk[32];
+    const ssize_t got = read(m_Process->Pipe, chunk, sizeof(chunk));
+    if (got <= 0)
+    {
+      break;
+    }
+    text.append(chunk, static_cast<size_t>(got));
+  }
+  text.erase(std::min(text.find_first_of("\r\n"), text.size()));
+  return text;
+}
+#endif
+
+namespace
+{
+/** The number after \a key in a "key: number unit" file such as /proc/self/status, in bytes
+ * (the unit is kB), or 0. */
+std::uint64_t
+KilobytesField(const char * path, const std::string & key)
+{
+  std::ifstream file(path);
+  std::string   line;
+  while (std::getline(file, line))
+  {
+    if (line.compare(0, key.size(), key) == 0)
+    {
+      std::istringstream fields(line.substr(key.size()));
+      std::uint64_t      kilobytes = 0;
+      fields >> kilobytes;
+      return kilobytes * 1024;
+    }
+  }
+  return 0;
+}
+} // namespace
+
+std::uint64_t
+PeakResidentBytes()
+{
+  return KilobytesField("/proc/self/status", "VmHWM:");
+}
+
+namespace
+{
+/** The first number in the file at \a path, or 0 (none, or "max"). */
+std::uint64_t
+NumberIn(const std::string & path)
+{
+  std::ifstream file(path);
+  std::uint64_t value = 0;
+  file >> value;
+  return file ? value : 0;
+}
+} // namespace
+
+std::uint64_t
+AvailableMemoryBytes()
+{
+  std::uint64_t available = KilobytesField("/proc/meminfo", "MemAvailable:");
+  // A memory limit of this process's control group (a container, a batch job) counts too.
+  std::ifstream groups("/proc/self/cgroup");
+  std::string   line;
+  while (std::getline(groups, line))
+  {
+    const auto colon = line.find(':');
+    const auto path = line.find(':', colon + 1);
+    if (colon == std::string::npos || path == std::string::npos)
+    {
+      continue;
+    }
+    const std::string controllers = line.substr(colon + 1, path - colon - 1);
+    const std::string group = line.substr(path + 1);
+    std::uint64_t     limit = 0;
+    std::uint64_t     usage = 0;
+    if (controllers == "memory")
+    {
+      limit = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.limit_in_bytes");
+      usage = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.usage_in_bytes");
+    }
+    else if (controllers.empty())
+    {
+      limit = NumberIn("/sys/fs/cgroup" + group + "/memory.max");
+      usage = NumberIn("/sys/fs/cgroup" + group + "/memory.current");
+    }
+    if (limit > 0 && limit < (std::uint64_t{ 1 } << 60))
+    {
+      const std::uint64_t room = limit > usage ? limit - usage : 0;
+      available = available == 0 ? room : std::min(available, room);
+    }
+  }
+  return available;
+}
+} // namespace sic

@@ -1,0 +1,200 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicStagedOutputs.h"
+#include "sicPlatform.h"
+#include "sicToolError.h"
+
+#include <fstream>
+
+namespace sic
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+/** Whether \a a and \a b name the same file: by identity (device and inode) when both
+ * exist, by their resolved absolute paths otherwise. */
+bool
+SameFile(const fs::path & a, const fs::path & b)
+{
+  std::error_code error;
+  const bool      aExists = fs::exists(a, error);
+  const bool      bExists = fs::exists(b, error);
+  if (aExists && bExists)
+  {
+    return fs::equivalent(a, b, error);
+  }
+  if (aExists != bExists)
+  {
+    return false;
+  }
+  std::error_code errorA;
+  std::error_code errorB;
+  return fs::weakly_canonical(fs::absolute(a), errorA) == fs::weakly_canonical(fs::absolute(b), errorB);
+}
+
+std::string
+Quoted(const fs::path & path)
+{
+  return "'" + path.string() + "'";
+}
+} // namespace
+
+StagedOutputs::~StagedOutputs()
+{
+  for (const Staged & staged : m_Staged)
+  {
+    std::error_code ignored;
+    fs::remove_all(staged.Directory, ignored);
+  }
+}
+
+void
+StagedOutputs::Protect(const std::string & path, const std::string & what)
+{
+  m_Protected.push_back({ fs::path(path), what });
+}
+
+void
+StagedOutputs::CheckNotProtected(const fs::path & destination, const std::string & what) const
+{
+  for (const Protected & file : m_Protected)
+  {
+    if (SameFile(destination, file.Path))
+    {
+      throw ToolError("refusing to write the " + what + " to " + Quoted(destination) + ": it is " + file.What +
+                      "; expected a different path");
+    }
+  }
+}
+
+std::string
+StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
+{
+  const fs::path destination(finalPath);
+  const fs::path name = destination.filename();
+  if (finalPath.empty() || name.empty() || name == "." || name == "..")
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": expected a file path");
+  }
+  std::error_code error;
+  if (fs::is_directory(destination, error))
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) +
+                    ": it is a directory; expected a file path");
+  }
+  const fs::path directory = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
+  if (!fs::exists(directory, error))
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": the directory " + Quoted(directory) +
+                    " does not exist; expected a path in an existing directory");
+  }
+  if (!fs::is_directory(directory, error))
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": " + Quoted(directory) +
+                    " is not a directory");
+  }
+  CheckNotProtected(destination, what);
+  for (const Staged & other : m_Staged)
+  {
+    if (SameFile(destination, other.Final))
+    {
+      throw ToolError("the " + what + " and the " + other.What + " are both " + Quoted(destination) +
+                      "; expected different paths");
+    }
+  }
+
+  const fs::path staging = CreateUniqueDirectory(directory, "." + name.string() + ".tmp-", error);
+  if (staging.empty())
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": cannot create a file in " +
+                    Quoted(directory) + " (" + error.message() + ")");
+  }
+  m_Staged.push_back({ destination, what, staging });
+  return (staging / name).string();
+}
+
+void
+StagedOutputs::Commit()
+{
+  // Everything is checked before anything is moved.
+  std::vector<std::vector<fs::path>> files(m_Staged.size());
+  for (size_t i = 0; i < m_Staged.size(); ++i)
+  {
+    const Staged &  staged = m_Staged[i];
+    const fs::path  main = staged.Directory / staged.Final.filename();
+    std::error_code error;
+    if (!fs::is_regular_file(main, error))
+    {
+      throw ToolError("the " + staged.What + " " + Quoted(staged.Final) + " was not written");
+    }
+    for (const fs::directory_entry & entry : fs::directory_iterator(staged.Directory, error))
+    {
+      if (entry.path() != main)
+      {
+        files[i].push_back(entry.path());
+      }
+    }
+    // A header goes last, after the data files it names.
+    files[i].push_back(main);
+    for (const fs::path & file : files[i])
+    {
+      const fs::path destination = staged.Final.parent_path() / file.filename();
+      if (fs::is_directory(destination, error))
+      {
+        throw ToolError("cannot write the " + staged.What + " to " + Quoted(destination) +
+                        ": it is a directory; expected a file path");
+      }
+      CheckNotProtected(destination, staged.What);
+    }
+  }
+  for (size_t i = 0; i < m_Staged.size(); ++i)
+  {
+    const Staged & staged = m_Staged[i];
+    for (const fs::path & file : files[i])
+    {
+      const fs::path  destination = staged.Final.parent_path() / file.filename();
+      std::error_code error;
+      fs::rename(file, destination, error);
+      if (error)
+      {
+        throw ToolError("cannot move the " + staged.What + " into place at " + Quoted(destination) + ": " +
+                        error.message());
+      }
+    }
+    std::error_code ignored;
+    fs::remove(staged.Directory, ignored);
+  }
+  m_Staged.clear();
+}
+
+void
+WriteTextFile(const std::string & path,
+              const std::string & finalPath,
+              const std::string & what,
+              const std::string & text)
+{
+  std::ofstream file(path);
+  file << text;
+  file.close();
+  if (!file)
+  {
+    throw ToolError("cannot write the " + what + " to " + Quoted(finalPath));
+  }
+}
+} // namespace sic

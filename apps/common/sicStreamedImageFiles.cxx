@@ -1,0 +1,993 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicStreamedImageFiles.h"
+#include "sicToolError.h"
+
+#include "itkImageIOFactory.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace sic
+{
+namespace
+{
+constexpr std::size_t CompressedChunk = std::size_t{ 256 } << 10;
+
+std::string
+Lowercase(std::string text)
+{
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+bool
+EndsWith(const std::string & text, const std::string & suffix)
+{
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string
+Trim(const std::string & text)
+{
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos)
+  {
+    return "";
+  }
+  const auto last = text.find_last_not_of(" \t\r\n");
+  return text.substr(first, last - first + 1);
+}
+
+std::string
+Quoted(const std::string & path)
+{
+  return "'" + path + "'";
+}
+
+enum class Format
+{
+  MetaImage,
+  Nrrd,
+  Other
+};
+
+Format
+FormatOfName(const std::string & path)
+{
+  const std::string name = Lowercase(path);
+  if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
+  {
+    return Format::MetaImage;
+  }
+  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+  {
+    return Format::Nrrd;
+  }
+  return Format::Other;
+}
+
+bool
+IsBigEndianHost()
+{
+  const uint16_t one = 1;
+  uint8_t        first;
+  std::memcpy(&first, &one, 1);
+  return first == 0;
+}
+
+void
+SwapBytes(void * buffer, uint64_t values, unsigned int bytes)
+{
+  auto * p = static_cast<uint8_t *>(buffer);
+  for (uint64_t v = 0; v < values; ++v, p += bytes)
+  {
+    std::reverse(p, p + bytes);
+  }
+}
+
+const char *
+MetaElementType(itk::IOComponentEnum type)
+{
+  switch (type)
+  {
+    case itk::IOComponentEnum::UCHAR:
+      return "MET_UCHAR";
+    case itk::IOComponentEnum::CHAR:
+      return "MET_CHAR";
+    case itk::IOComponentEnum::USHORT:
+      return "MET_USHORT";
+    case itk::IOComponentEnum::SHORT:
+      return "MET_SHORT";
+    case itk::IOComponentEnum::UINT:
+      return "MET_UINT";
+    case itk::IOComponentEnum::INT:
+      return "MET_INT";
+    case itk::IOComponentEnum::FLOAT:
+      return "MET_FLOAT";
+    case itk::IOComponentEnum::DOUBLE:
+      return "MET_DOUBLE";
+    default:
+      return nullptr;
+  }
+}
+
+const char *
+NrrdType(itk::IOComponentEnum type)
+{
+  switch (type)
+  {
+    case itk::IOComponentEnum::UCHAR:
+      return "uint8";
+    case itk::IOComponentEnum::CHAR:
+      return "int8";
+    case itk::IOComponentEnum::USHORT:
+      return "uint16";
+    case itk::IOComponentEnum::SHORT:
+      return "int16";
+    case itk::IOComponentEnum::UINT:
+      return "uint32";
+    case itk::IOComponentEnum::INT:
+      return "int32";
+    case itk::IOComponentEnum::FLOAT:
+      return "float";
+    case itk::IOComponentEnum::DOUBLE:
+      return "double";
+    default:
+      return nullptr;
+  }
+}
+
+std::string
+Number(double value)
+{
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  return out.str();
+}
+
+/** Where the voxels of a file are and how they are stored. */
+struct Layout
+{
+  std::string DataPath;
+  uint64_t    Offset{ 0 };
+  bool        AtEnd{ false }; // the data are the file's last bytes
+  uint64_t    LineSkip{ 0 };
+  bool        Compressed{ false };
+  bool        BigEndian{ false };
+};
+
+/** Reads "Key = Value" lines up to ElementDataFile (the last header line). */
+Layout
+MetaImageLayout(const std::string & path, const std::string & what)
+{
+  std::ifstream in(path, std::ios::binary);
+  Layout        layout;
+  std::string   line;
+  std::string   dataFile;
+  int64_t       headerSize = 0;
+  bool          haveHeaderSize = false;
+  while (std::getline(in, line))
+  {
+    const auto equals = line.find('=');
+    if (equals == std::string::npos)
+    {
+      continue;
+    }
+    const std::string key = Trim(line.substr(0, equals));
+    const std::string value = Trim(line.substr(equals + 1));
+    if (key == "CompressedData")
+    {
+      layout.Compressed = Lowercase(value) == "true";
+    }
+    else if (key == "BinaryDataByteOrderMSB" || key == "ElementByteOrderMSB")
+    {
+      layout.BigEndian = Lowercase(value) == "true";
+    }
+    else if (key == "BinaryData" && Lowercase(value) != "true")
+    {
+      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are stored as text; " +
+                      StreamableFormats());
+    }
+    else if (key == "HeaderSize")
+    {
+      headerSize = std::stoll(value);
+      haveHeaderSize = true;
+    }
+    else if (key == "ElementDataFile")
+    {
+      dataFile = value;
+      break;
+    }
+  }
+  if (dataFile.empty())
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its header has no ElementDataFile line");
+  }
+  if (dataFile == "LOCAL")
+  {
+    layout.DataPath = path;
+    layout.Offset = static_cast<uint64_t>(in.tellg());
+  }
+  else
+  {
+    if (dataFile == "LIST" || dataFile.find('%') != std::string::npos || dataFile.find(' ') != std::string::npos)
+    {
+      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are spread over several files; " +
+                      StreamableFormats());
+    }
+    const std::filesystem::path data(dataFile);
+    layout.DataPath = data.is_absolute() ? data.string() : (std::filesystem::path(path).parent_path() / data).string();
+    layout.Offset = 0;
+  }
+  if (haveHeaderSize)
+  {
+    layout.AtEnd = headerSize < 0;
+    if (headerSize > 0)
+    {
+      layout.Offset = static_cast<uint64_t>(headerSize);
+    }
+  }
+  return layout;
+}
+
+/** Reads the NRRD header's fields (up to the blank line before attached data). */
+Layout
+NrrdLayout(const std::string & path, const std::string & what)
+{
+  std::ifstream in(path, std::ios::binary);
+  Layout        layout;
+  std::string   line;
+  std::getline(in, line);
+  if (line.compare(0, 4, "NRRD") != 0)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": it does not start with NRRD's magic line");
+  }
+  std::string dataFile;
+  std::string encoding = "raw";
+  int64_t     byteSkip = 0;
+  while (std::getline(in, line))
+  {
+    if (Trim(line).empty())
+    {
+      break;
+    }
+    if (line[0] == '#')
+    {
+      continue;
+    }
+    const auto colon = line.find(": ");
+    if (colon == std::string::npos)
+    {
+      continue;
+    }
+    const std::string field = Lowercase(Trim(line.substr(0, colon)));
+    const std::string value = Trim(line.substr(colon + 2));
+    if (field == "data file" || field == "datafile")
+    {
+      dataFile = value;
+    }
+    else if (field == "encoding")
+    {
+      encoding = Lowercase(value);
+    }
+    else if (field == "endian")
+    {
+      layout.BigEndian = Lowercase(value) == "big";
+    }
+    else if (field == "byte skip" || field == "byteskip")
+    {
+      byteSkip = std::stoll(value);
+    }
+    else if (field == "line skip" || field == "lineskip")
+    {
+      layout.LineSkip = static_cast<uint64_t>(std::stoll(value));
+    }
+  }
+  if (encoding == "gzip" || encoding == "gz")
+  {
+    layout.Compressed = true;
+  }
+  else if (encoding != "raw")
+  {
+    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its encoding is " + encoding + "; " +
+                    StreamableFormats());
+  }
+  if (layout.Compressed && byteSkip != 0)
+  {
+    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": it skips bytes of gzip-compressed data; " +
+                    StreamableFormats());
+  }
+  if (dataFile.empty())
+  {
+    layout.DataPath = path;
+    layout.Offset = static_cast<uint64_t>(in.tellg());
+  }
+  else
+  {
+    if (dataFile.find(' ') != std::string::npos || dataFile.find('%') != std::string::npos || dataFile == "LIST")
+    {
+      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are spread over several files; " +
+                      StreamableFormats());
+    }
+    const std::filesystem::path data(dataFile);
+    layout.DataPath = data.is_absolute() ? data.string() : (std::filesystem::path(path).parent_path() / data).string();
+    layout.Offset = 0;
+  }
+  layout.AtEnd = byteSkip < 0;
+  if (byteSkip > 0)
+  {
+    layout.Offset += static_cast<uint64_t>(byteSkip);
+  }
+  return layout;
+}
+} // namespace
+
+uint64_t
+VolumeGeometry::PlaneVoxels() const
+{
+  uint64_t voxels = 1;
+  for (unsigned int a = 0; a + 1 < Dimension; ++a)
+  {
+    voxels *= Size[a];
+  }
+  return voxels;
+}
+
+unsigned int
+VolumeGeometry::PixelBytes() const
+{
+  switch (ComponentType)
+  {
+    case itk::IOComponentEnum::UCHAR:
+    case itk::IOComponentEnum::CHAR:
+      return 1;
+    case itk::IOComponentEnum::USHORT:
+    case itk::IOComponentEnum::SHORT:
+      return 2;
+    case itk::IOComponentEnum::UINT:
+    case itk::IOComponentEnum::INT:
+    case itk::IOComponentEnum::FLOAT:
+      return 4;
+    case itk::IOComponentEnum::DOUBLE:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+bool
+IsStreamableImageFile(const std::string & path)
+{
+  return FormatOfName(path) != Format::Other;
+}
+
+std::string
+StreamableFormats()
+{
+  return "streaming reads and writes MetaImage (.mha, .mhd) and NRRD (.nrrd, .nhdr) files with raw, "
+         "zlib or gzip data";
+}
+
+struct PlaneReader::Data
+{
+  std::FILE *          File{ nullptr };
+  Layout               Where;
+  z_stream             Stream{};
+  bool                 Inflating{ false };
+  bool                 StreamEnded{ false };
+  std::vector<uint8_t> In;
+  uint64_t             BytesRead{ 0 };
+  uint64_t             BytesTotal{ 0 };
+
+  ~Data()
+  {
+    if (Inflating)
+    {
+      inflateEnd(&Stream);
+    }
+    if (File != nullptr)
+    {
+      std::fclose(File);
+    }
+  }
+};
+
+PlaneReader::PlaneReader(const std::string & path, const std::string & what)
+  : m_Path(path)
+  , m_What(what)
+  , m_Data(std::make_unique<Data>())
+{
+  const Format format = FormatOfName(path);
+  if (format == Format::Other)
+  {
+    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": " + StreamableFormats());
+  }
+  itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": not a MetaImage or NRRD file ITK can read");
+  }
+  io->SetFileName(path);
+  try
+  {
+    io->ReadImageInformation();
+  }
+  catch (const itk::ExceptionObject & exception)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": " + OneLine(exception.GetDescription()));
+  }
+  m_Geometry.Dimension = io->GetNumberOfDimensions();
+  m_Geometry.ComponentType = io->GetComponentType();
+  for (unsigned int a = 0; a < m_Geometry.Dimension; ++a)
+  {
+    m_Geometry.Size.push_back(io->GetDimensions(a));
+    m_Geometry.Spacing.push_back(io->GetSpacing(a));
+    m_Geometry.Origin.push_back(io->GetOrigin(a));
+  }
+  for (unsigned int row = 0; row < m_Geometry.Dimension; ++row)
+  {
+    for (unsigned int column = 0; column < m_Geometry.Dimension; ++column)
+    {
+      m_Geometry.Direction.push_back(io->GetDirection(column)[row]);
+    }
+  }
+
+  Data & data = *m_Data;
+  data.Where = format == Format::MetaImage ? MetaImageLayout(path, what) : NrrdLayout(path, what);
+  m_Files.push_back(path);
+  if (data.Where.DataPath != path)
+  {
+    m_Files.push_back(data.Where.DataPath);
+  }
+  data.BytesTotal = m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
+  std::error_code error;
+  const auto      fileSize = std::filesystem::file_size(data.Where.DataPath, error);
+  if (error)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.DataPath) +
+                    " cannot be opened (" + error.message() + ")");
+  }
+  if (!std::filesystem::is_regular_file(data.Where.DataPath))
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.DataPath) +
+                    " is not a regular file");
+  }
+  data.File = std::fopen(data.Where.DataPath.c_str(), "rb");
+  if (data.File == nullptr)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot open its data file " +
+                    Quoted(data.Where.DataPath) + " (" + std::strerror(errno) + ")");
+  }
+  // Lines to skip, then the offset.
+  uint64_t offset = data.Where.Offset;
+  if (data.Where.LineSkip > 0)
+  {
+    std::fseek(data.File, static_cast<long>(offset), SEEK_SET);
+    for (uint64_t lines = 0; lines < data.Where.LineSkip;)
+    {
+      const int c = std::fgetc(data.File);
+      if (c == EOF)
+      {
+        throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file ends within the lines to skip");
+      }
+      lines += c == '\n' ? 1 : 0;
+    }
+    offset = static_cast<uint64_t>(std::ftell(data.File));
+  }
+  if (!data.Where.Compressed)
+  {
+    if (data.Where.AtEnd)
+    {
+      offset = fileSize >= data.BytesTotal ? fileSize - data.BytesTotal : 0;
+    }
+    if (fileSize < offset + data.BytesTotal)
+    {
+      throw ToolError(what + " " + Quoted(path) + " is truncated: its header promises " +
+                      std::to_string(data.BytesTotal) + " bytes of voxels but its data file " +
+                      Quoted(data.Where.DataPath) + " holds " +
+                      std::to_string(fileSize > offset ? fileSize - offset : 0));
+    }
+  }
+  if (fseeko(data.File, static_cast<off_t>(offset), SEEK_SET) != 0)
+  {
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot seek in its data file");
+  }
+  if (data.Where.Compressed)
+  {
+    // 15 + 32: zlib or gzip, whichever header the data have.
+    if (inflateInit2(&data.Stream, 15 + 32) != Z_OK)
+    {
+      throw ToolError("cannot read " + what + " " + Quoted(path) + ": the decompressor could not start");
+    }
+    data.Inflating = true;
+    data.In.resize(CompressedChunk);
+  }
+}
+
+PlaneReader::~PlaneReader() = default;
+
+bool
+PlaneReader::IsCompressed() const
+{
+  return m_Data->Where.Compressed;
+}
+
+void
+PlaneReader::Read(void * buffer, uint64_t planes)
+{
+  Data &         data = *m_Data;
+  const uint64_t bytes = planes * m_Geometry.PlaneVoxels() * m_Geometry.PixelBytes();
+  if (data.BytesRead + bytes > data.BytesTotal)
+  {
+    throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": more planes asked for than it has");
+  }
+  if (!data.Where.Compressed)
+  {
+    if (std::fread(buffer, 1, bytes, data.File) != bytes)
+    {
+      throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": its data file " +
+                      Quoted(data.Where.DataPath) + " ended early or could not be read");
+    }
+  }
+  else
+  {
+    data.Stream.next_out = static_cast<Bytef *>(buffer);
+    uint64_t left = bytes;
+    while (left > 0)
+    {
+      if (data.StreamEnded)
+      {
+        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data hold " +
+                        std::to_string(data.BytesRead + (bytes - left)) + " of the " + std::to_string(data.BytesTotal) +
+                        " bytes of voxels its header promises");
+      }
+      if (data.Stream.avail_in == 0)
+      {
+        const std::size_t got = std::fread(data.In.data(), 1, data.In.size(), data.File);
+        if (got == 0)
+        {
+          throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data end after " +
+                          std::to_string(data.BytesRead + (bytes - left)) + " of the " +
+                          std::to_string(data.BytesTotal) + " bytes of voxels its header promises");
+        }
+        data.Stream.next_in = data.In.data();
+        data.Stream.avail_in = static_cast<uInt>(got);
+      }
+      const auto chunk = static_cast<uInt>(std::min<uint64_t>(left, uint64_t{ 1 } << 30));
+      data.Stream.avail_out = chunk;
+      const int status = inflate(&data.Stream, Z_NO_FLUSH);
+      if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR)
+      {
+        throw ToolError(m_What + " " + Quoted(m_Path) + " is corrupt: its compressed data fail to decompress (" +
+                        (data.Stream.msg != nullptr ? data.Stream.msg : "zlib error") + ")");
+      }
+      left -= chunk - data.Stream.avail_out;
+      data.StreamEnded = status == Z_STREAM_END;
+    }
+  }
+  data.BytesRead += bytes;
+  const bool bigEndianData = data.Where.BigEndian;
+  if (m_Geometry.PixelBytes() > 1 && bigEndianData != IsBigEndianHost())
+  {
+    SwapBytes(buffer, bytes / m_Geometry.PixelBytes(), m_Geometry.PixelBytes());
+  }
+}
+
+void
+PlaneReader::Finish()
+{
+  Data & data = *m_Data;
+  if (data.BytesRead != data.BytesTotal || !data.Where.Compressed)
+  {
+    return;
+  }
+  // The stream must end here, and its checksum match.
+  uint8_t scratch[64];
+  while (!data.StreamEnded)
+  {
+    if (data.Stream.avail_in == 0)
+    {
+      const std::size_t got = std::fread(data.In.data(), 1, data.In.size(), data.File);
+      if (got == 0)
+      {
+        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data stop before their end");
+      }
+      data.Stream.next_in = data.In.data();
+      data.Stream.avail_in = static_cast<uInt>(got);
+    }
+    data.Stream.next_out = scratch;
+    data.Stream.avail_out = sizeof(scratch);
+    const int status = inflate(&data.Stream, Z_NO_FLUSH);
+    if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR)
+    {
+      throw ToolError(m_What + " " + Quoted(m_Path) + " is corrupt: its compressed data fail to decompress (" +
+                      (data.Stream.msg != nullptr ? data.Stream.msg : "zlib error") + ")");
+    }
+    if (data.Stream.avail_out != sizeof(scratch))
+    {
+      throw ToolError(m_What + " " + Quoted(m_Path) +
+                      " is corrupt: its compressed data hold more voxels than its "
+                      "header says");
+    }
+    data.StreamEnded = status == Z_STREAM_END;
+  }
+}
+
+struct PlaneWriter::Output
+{
+  Format               Kind{ Format::Other };
+  bool                 Detached{ false };
+  std::string          DataPath;
+  std::string          DataName;
+  std::FILE *          Header{ nullptr };
+  std::FILE *          File{ nullptr };
+  long                 SizeFieldAt{ -1 };
+  z_stream             Stream{};
+  bool                 Deflating{ false };
+  std::vector<uint8_t> Out;
+  uint64_t             CompressedBytes{ 0 };
+
+  ~Output()
+  {
+    if (Deflating)
+    {
+      deflateEnd(&Stream);
+    }
+    if (File != nullptr)
+    {
+      std::fclose(File);
+    }
+    if (Header != nullptr && Header != File)
+    {
+      std::fclose(Header);
+    }
+  }
+};
+
+namespace
+{
+/** The header text, without its last line when MetaImage (ElementDataFile comes last). */
+std::string
+MetaImageHeader(const VolumeGeometry & geometry, bool compress, const std::string & dataFile, bool sizePlaceholder)
+{
+  std::ostringstream header;
+  const unsigned int n = geometry.Dimension;
+  header << "ObjectType = Image\nNDims = " << n << "\nBinaryData = True\nBinaryDataByteOrderMSB = False\n";
+  header << "CompressedData = " << (compress ? "True" : "False") << "\n";
+  if (compress && sizePlaceholder)
+  {
+    header << "CompressedDataSize = " << std::string(20, '0') << "\n";
+  }
+  // MetaImage lists each axis's direction in turn.
+  header << "TransformMatrix =";
+  for (unsigned int column = 0; column < n; ++column)
+  {
+    for (unsigned int row = 0; row < n; ++row)
+    {
+      header << " " << Number(geometry.Direction[row * n + column]);
+    }
+  }
+  header << "\nOffset =";
+  for (const double origin : geometry.Origin)
+  {
+    header << " " << Number(origin);
+  }
+  header << "\nCenterOfRotation =";
+  for (unsigned int a = 0; a < n; ++a)
+  {
+    header << " 0";
+  }
+  header << "\nElementSpacing =";
+  for (const double spacing : geometry.Spacing)
+  {
+    header << " " << Number(spacing);
+  }
+  header << "\nDimSize =";
+  for (const uint64_t size : geometry.Size)
+  {
+    header << " " << size;
+  }
+  header << "\nElementType = " << MetaElementType(geometry.ComponentType) << "\nElementDataFile = " << dataFile << "\n";
+  return header.str();
+}
+
+std::string
+NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & dataFile)
+{
+  std::ostringstream header;
+  const unsigned int n = geometry.Dimension;
+  header << "NRRD0004\ntype: " << NrrdType(geometry.ComponentType) << "\ndimension: " << n << "\n";
+  if (n == 3)
+  {
+    header << "space: left-posterior-superior\n";
+  }
+  else
+  {
+    header << "space dimension: " << n << "\n";
+  }
+  header << "sizes:";
+  for (const uint64_t size : geometry.Size)
+  {
+    header << " " << size;
+  }
+  header << "\nspace directions:";
+  for (unsigned int column = 0; column < n; ++column)
+  {
+    header << " (";
+    for (unsigned int row = 0; row < n; ++row)
+    {
+      header << (row ? "," : "") << Number(geometry.Direction[row * n + column] * geometry.Spacing[column]);
+    }
+    header << ")";
+  }
+  header << "\nkinds:";
+  for (unsigned int a = 0; a < n; ++a)
+  {
+    header << " domain";
+  }
+  header << "\nendian: " << (IsBigEndianHost() ? "big" : "little") << "\nencoding: " << (compress ? "gzip" : "raw")
+         << "\nspace origin: (";
+  for (unsigned int a = 0; a < n; ++a)
+  {
+    header << (a ? "," : "") << Number(geometry.Origin[a]);
+  }
+  header << ")\n";
+  if (!dataFile.empty())
+  {
+    header << "data file: " << dataFile << "\n";
+  }
+  else
+  {
+    header << "\n";
+  }
+  return header.str();
+}
+} // namespace
+
+PlaneWriter::PlaneWriter(const std::string &    path,
+                         const std::string &    finalPath,
+                         const std::string &    what,
+                         const VolumeGeometry & geometry,
+                         bool                   compress)
+  : m_Path(path)
+  , m_FinalPath(finalPath)
+  , m_What(what)
+  , m_Geometry(geometry)
+  , m_Compress(compress)
+  , m_Output(std::make_unique<Output>())
+{
+  Output &          out = *m_Output;
+  const std::string name = Lowercase(finalPath);
+  out.Kind = FormatOfName(finalPath);
+  if (out.Kind == Format::Other || MetaElementType(geometry.ComponentType) == nullptr)
+  {
+    throw ToolError("cannot stream " + what + " " + Quoted(finalPath) + ": " + StreamableFormats());
+  }
+  out.Detached = EndsWith(name, ".mhd") || EndsWith(name, ".nhdr");
+  const auto fail = [&](const std::string & file) {
+    throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": cannot create " + file + " (" +
+                    std::strerror(errno) + ")");
+  };
+  if (out.Detached)
+  {
+    const std::filesystem::path staged(path);
+    const std::string           stem = std::filesystem::path(finalPath).stem().string();
+    out.DataName =
+      stem + (out.Kind == Format::MetaImage ? (compress ? ".zraw" : ".raw") : (compress ? ".raw.gz" : ".raw"));
+    out.DataPath = (staged.parent_path() / out.DataName).string();
+    out.File = std::fopen(out.DataPath.c_str(), "wb");
+    if (out.File == nullptr)
+    {
+      fail("its data file");
+    }
+    if (out.Kind == Format::Nrrd)
+    {
+      // A NRRD header names no size: write it now.
+      out.Header = std::fopen(path.c_str(), "wb");
+      if (out.Header == nullptr)
+      {
+        fail("its header");
+      }
+      const std::string header = NrrdHeader(geometry, compress, out.DataName);
+      if (std::fwrite(header.data(), 1, header.size(), out.Header) != header.size())
+      {
+        fail("its header");
+      }
+    }
+  }
+  else
+  {
+    out.File = std::fopen(path.c_str(), "wb");
+    if (out.File == nullptr)
+    {
+      fail("the file");
+    }
+    out.Header = out.File;
+    const std::string header = out.Kind == Format::MetaImage ? MetaImageHeader(geometry, compress, "LOCAL", true)
+                                                             : NrrdHeader(geometry, compress, "");
+    if (out.Kind == Format::MetaImage && compress)
+    {
+      const std::string field = "CompressedDataSize = ";
+      out.SizeFieldAt = static_cast<long>(header.find(field) + field.size());
+    }
+    if (std::fwrite(header.data(), 1, header.size(), out.File) != header.size())
+    {
+      throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": " + std::strerror(errno));
+    }
+  }
+  if (compress)
+  {
+    // Level 1: for volumes this large, the fastest compression is most of the gain.
+    const int windowBits = out.Kind == Format::Nrrd ? 15 + 16 : 15;
+    if (deflateInit2(&out.Stream, 1, Z_DEFLATED, windowBits, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    {
+      throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": the compressor could not start");
+    }
+    out.Deflating = true;
+    out.Out.resize(CompressedChunk);
+  }
+}
+
+PlaneWriter::~PlaneWriter() = default;
+
+uint64_t
+PlaneWriter::GetDataBytes() const
+{
+  return m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
+}
+
+void
+PlaneWriter::Write(const void * buffer, uint64_t planes)
+{
+  Output &       out = *m_Output;
+  const uint64_t bytes = planes * m_Geometry.PlaneVoxels() * m_Geometry.PixelBytes();
+  if (m_PlanesWritten + planes > m_Geometry.Planes())
+  {
+    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": more planes than the image has");
+  }
+  const auto failed = [&] {
+    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": " + std::strerror(errno) +
+                    " (is the disk full?)");
+  };
+  if (!m_Compress)
+  {
+    if (std::fwrite(buffer, 1, bytes, out.File) != bytes)
+    {
+      failed();
+    }
+  }
+  else
+  {
+    out.Stream.next_in = static_cast<Bytef *>(const_cast<void *>(buffer));
+    uint64_t left = bytes;
+    while (left > 0 || out.Stream.avail_in > 0)
+    {
+      if (out.Stream.avail_in == 0)
+      {
+        const auto chunk = static_cast<uInt>(std::min<uint64_t>(left, uint64_t{ 1 } << 30));
+        out.Stream.avail_in = chunk;
+        left -= chunk;
+      }
+      out.Stream.next_out = out.Out.data();
+      out.Stream.avail_out = static_cast<uInt>(out.Out.size());
+      deflate(&out.Stream, Z_NO_FLUSH);
+      const std::size_t produced = out.Out.size() - out.Stream.avail_out;
+      if (produced > 0 && std::fwrite(out.Out.data(), 1, produced, out.File) != produced)
+      {
+        failed();
+      }
+      out.CompressedBytes += produced;
+    }
+  }
+  m_PlanesWritten += planes;
+}
+
+void
+PlaneWriter::Finish()
+{
+  Output &   out = *m_Output;
+  const auto failed = [&] {
+    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": " + std::strerror(errno) +
+                    " (is the disk full?)");
+  };
+  if (m_PlanesWritten != m_Geometry.Planes())
+  {
+    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": only " + std::to_string(m_PlanesWritten) +
+                    " of its " + std::to_string(m_Geometry.Planes()) + " planes were written");
+  }
+  if (m_Compress)
+  {
+    int status = Z_OK;
+    while (status != Z_STREAM_END)
+    {
+      out.Stream.next_out = out.Out.data();
+      out.Stream.avail_out = static_cast<uInt>(out.Out.size());
+      status = deflate(&out.Stream, Z_FINISH);
+      const std::size_t produced = out.Out.size() - out.Stream.avail_out;
+      if (produced > 0 && std::fwrite(out.Out.data(), 1, produced, out.File) != produced)
+      {
+        failed();
+      }
+      out.CompressedBytes += produced;
+    }
+    deflateEnd(&out.Stream);
+    out.Deflating = false;
+  }
+  if (out.SizeFieldAt >= 0)
+  {
+    // Fill in the compressed size, zero-padded to the placeholder's width.
+    std::string size = std::to_string(out.CompressedBytes);
+    size.insert(0, 20 - size.size(), '0');
+    if (fseeko(out.File, out.SizeFieldAt, SEEK_SET) != 0 ||
+        std::fwrite(size.data(), 1, size.size(), out.File) != size.size())
+    {
+      failed();
+    }
+  }
+  if (std::fflush(out.File) != 0 || std::ferror(out.File))
+  {
+    failed();
+  }
+  std::FILE * file = out.File;
+  out.File = nullptr;
+  if (std::fclose(file) != 0)
+  {
+    failed();
+  }
+  if (out.Header == file)
+  {
+    out.Header = nullptr;
+  }
+  if (out.Detached && out.Kind == Format::MetaImage)
+  {
+    out.Header = std::fopen(m_Path.c_str(), "wb");
+    if (out.Header == nullptr)
+    {
+      failed();
+    }
+    std::string header = MetaImageHeader(m_Geometry, m_Compress, out.DataName, false);
+    if (m_Compress)
+    {
+      const std::string before = "TransformMatrix";
+      header.insert(header.find(before), "CompressedDataSize = " + std::to_string(out.CompressedBytes) + "\n");
+    }
+    if (std::fwrite(header.data(), 1, header.size(), out.Header) != header.size())
+    {
+      failed();
+    }
+  }
+  if (out.Header != nullptr)
+  {
+    std::FILE * header = out.Header;
+    out.Header = nullptr;
+    if (std::fflush(header) != 0 || std::ferror(header) || std::fclose(header) != 0)
+    {
+      failed();
+    }
+  }
+}
+} // namespace sic

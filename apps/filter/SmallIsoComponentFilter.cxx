@@ -1,0 +1,734 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// SmallIsoComponentFilter: removes the small components on either side of an isovalue from
+// an image file. The command line, --help and --xml all come from DescribeTool().
+
+#include "itkSmallIsoComponentImageFilter.h"
+#include "sicCommandLine.h"
+#include "sicFilterReport.h"
+#include "sicImageFiles.h"
+#include "sicProgressReporter.h"
+#include "sicScalarImageDispatch.h"
+#include "sicSlicerDescription.h"
+#include "sicPlatform.h"
+#include "sicStagedOutputs.h"
+#include "sicStreamedFilter.h"
+#include "sicStreamedImageFiles.h"
+#include "sicToolError.h"
+#include "sicToolMain.h"
+
+#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentBlockSummary.h"
+
+#ifdef SIC_HAVE_VTK
+#  include "sicHeadlessDisplay.h"
+#  include "sicRender.h"
+#  include "sicSurface.h"
+
+#  include "vtkPolyData.h"
+#endif
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+namespace
+{
+using sic::Option;
+using sic::SlicerParameter;
+
+const char * const ToolName = "SmallIsoComponentFilter";
+
+sic::ToolDescription
+DescribeTool()
+{
+  sic::ToolDescription tool;
+  tool.Name = ToolName;
+  tool.Usage = "SmallIsoComponentFilter INPUT OUTPUT --isovalue S [--max-size K | --max-volume V] "
+               "[--side above|below|both] [--fully-connected] [--removed-mask FILE] [--stats FILE.json] "
+#ifdef SIC_HAVE_VTK
+               "[--surface FILE] [--surface-before FILE] [--render FILE.png] "
+#endif
+               "[--memory-limit BYTES] [--no-compression] [--threads N] [--quiet] [--progress-xml] [--xml] [--help]";
+  tool.Description =
+    "Removes the small connected components that noise leaves on either side of an isovalue S: specks of voxels "
+    ">= S floating outside an object and bubbles of voxels < S inside it. Only the voxels of those components "
+    "change, each to a value on the other side of S (the mean of the nearest other-side values along the "
+    "axes); every other voxel keeps its value bit for bit, so an isosurface extracted at S afterwards (Marching "
+    "Cubes, Slicer's Grayscale Model Maker) has no tiny pieces. Any scalar 2-D or 3-D image ITK reads (NRRD, "
+    "NIfTI, MetaImage, PNG, ...) is processed in its own pixel type; spacing, origin and direction are kept.";
+
+  const auto image = [](const char * name, const char * label, const char * channel, const char * type) {
+    SlicerParameter parameter;
+    parameter.Tag = "image";
+    parameter.Name = name;
+    parameter.Label = label;
+    parameter.Group = "Input/Output";
+    parameter.Channel = channel;
+    parameter.ImageType = type;
+    return parameter;
+  };
+  tool.Positionals = {
+    { "INPUT",
+      "The image to clean: a scalar image (one value per voxel), 2-D or 3-D, with pixel type " +
+        sic::SupportedPixelTypes() + ".",
+      image("inputVolume", "Input volume", "input", "scalar") },
+    { "OUTPUT",
+      "Where to write the cleaned image, with the input's pixel type, in the format its extension names (.nrrd, "
+      ".nhdr, .nii, .nii.gz, .mha, .mhd, .png, ...), compressed where the format allows. It must not be the "
+      "input.",
+      image("outputVolume", "Output volume", "output", "scalar") },
+  };
+
+  const auto parameter = [](const char * tag, const char * name, const char * label, const char * group) {
+    SlicerParameter slicer;
+    slicer.Tag = tag;
+    slicer.Name = name;
+    slicer.Label = label;
+    slicer.Group = group;
+    return slicer;
+  };
+  Option isovalue{ "--isovalue",
+                   "S",
+                   "The isovalue, in the image's intensity units: voxels with a value >= S are above it, all "
+                   "others (NaN included) below. Required.",
+                   "",
+                   parameter("double", "isovalue", "Isovalue", "Parameters") };
+  isovalue.Slicer.Default = "100";
+  Option maxSize{ "--max-size",
+                  "K",
+                  "The largest component removed, in voxels: components of at most K voxels are small. 0 removes "
+                  "nothing (unless --max-volume is given).",
+                  "20 voxels, unless --max-volume is given",
+                  parameter("integer", "maxSize", "Maximum size (voxels)", "Parameters") };
+  maxSize.Slicer.Default = "20";
+  maxSize.Slicer.Minimum = "0";
+  maxSize.Slicer.Maximum = "1000000000";
+  Option maxVolume{ "--max-volume",
+                    "V",
+                    "The largest component removed, as a physical volume in mm³ (the image's spacing units "
+                    "cubed): a component is small when its voxel count times the voxel volume is at most V, so "
+                    "K = floor(V / voxel volume). Give --max-size or --max-volume, not both. As Slicer passes "
+                    "both, a 0 does not count as given: --max-volume 0 leaves the volume unused, and --max-size 0 "
+                    "lets --max-volume decide (in Slicer, set the maximum size to 0 to use the maximum volume).",
+                    "unused",
+                    parameter("double", "maxVolume", "Maximum volume (mm³)", "Parameters") };
+  maxVolume.Slicer.Default = "0";
+  maxVolume.Slicer.Minimum = "0";
+  maxVolume.Slicer.Maximum = "1e12";
+  maxVolume.Slicer.Step = "0.1";
+  Option side{ "--side",
+               "above|below|both",
+               "Which small components to remove: above (specks of voxels >= S, e.g. outside a dense object), "
+               "below (bubbles of voxels < S, e.g. inside it) or both (above first, then below on the result).",
+               "both",
+               parameter("string-enumeration", "side", "Side", "Parameters") };
+  side.Slicer.Elements = { "above", "below", "both" };
+  Option fullyConnected{ "--fully-connected",
+                         "",
+                         "Connect voxels that share an edge or a corner too, not only a face (26 neighbours in "
+                         "3-D and 8 in 2-D, instead of 6 and 4).",
+                         "face connectivity",
+                         parameter("boolean", "fullyConnected", "Fully connected", "Parameters") };
+  fullyConnected.Slicer.Default = "false";
+  Option removedMask{ "--removed-mask",
+                      "FILE",
+                      "Also write a mask of the changed voxels (uint8: 0 kept, 1 removed with an above "
+                      "component, 2 removed with a below component), in the format FILE's extension names.",
+                      "",
+                      image("removedMask", "Removed voxels", "output", "label") };
+  Option stats{ "--stats",
+                "FILE.json",
+                "Also write the input's description, the parameters and every statistic as JSON: per side the "
+                "components, removed components, removed voxels and component-size histogram ([size, count] "
+                "pairs); modified and unrepairable voxels, seconds and peak extra memory in bytes.",
+                "",
+                parameter("file", "statsFile", "Statistics (JSON)", "Input/Output") };
+  stats.Slicer.Channel = "output";
+  stats.Slicer.FileExtensions = ".json";
+#ifdef SIC_HAVE_VTK
+  const auto geometry = [](const char * name, const char * label) {
+    SlicerParameter slicer;
+    slicer.Tag = "geometry";
+    slicer.Name = name;
+    slicer.Label = label;
+    slicer.Group = "Surfaces";
+    slicer.Channel = "output";
+    slicer.FileExtensions = ".vtp,.stl,.ply,.obj";
+    return slicer;
+  };
+  Option surface{ "--surface",
+                  "FILE",
+                  "Also write the isosurface of the filtered image at S, extracted with VTK's Flying Edges "
+                  "(vtkFlyingEdges3D, the same triangles as Marching Cubes), as " +
+                    sic::SupportedSurfaceExtensions() +
+                    " by FILE's extension. Points are in physical LPS coordinates (millimetres), honouring the "
+                    "image's spacing, origin and direction, as ITK maps voxel indices and as 3D Slicer reads "
+                    "models. 3-D images only.",
+                  "",
+                  geometry("surface", "Isosurface (filtered)") };
+  Option surfaceBefore{ "--surface-before",
+                        "FILE",
+                        "Also write the isosurface of the input image at S, in the same way as --surface.",
+                        "",
+                        geometry("surfaceBefore", "Isosurface (input)") };
+  Option render{ "--render",
+                 "FILE.png",
+                 "Also render, off screen, a PNG of four panels with one camera: the input's isosurface, the "
+                 "filtered one, only the removed pieces (the input's surface pieces that filtering took away "
+                 "whole; specks red, bubbles blue) and the filtered surface (translucent) with the removed pieces, "
+                 "each labelled with its number of pieces. Without an X display the tool starts a virtual one (Xvfb). "
+                 "3-D images only.",
+                 "",
+                 parameter("file", "render", "Rendering (PNG)", "Surfaces") };
+  render.Slicer.Channel = "output";
+  render.Slicer.FileExtensions = ".png";
+#endif
+  Option memoryLimit{ "--memory-limit",
+                      "BYTES",
+                      "Filter the image plane by plane along its last axis, holding at most about BYTES of memory "
+                      "(a number with an optional suffix K, M, G or T, powers of 1024: 512M, 8G): for volumes "
+                      "larger than memory. The output, mask and statistics are exactly those of the in-memory "
+                      "run. Needs MetaImage (.mha, .mhd) or NRRD (.nrrd, .nhdr) input and outputs; the isosurface "
+                      "options need the whole volume and cannot be combined with it. Without it, the tool streams "
+                      "by itself, within three quarters of the available memory, when the input would not fit.",
+                      "the whole image in memory, unless it does not fit",
+                      {} };
+  Option noCompression{ "--no-compression",
+                        "",
+                        "Write the outputs uncompressed (faster for large volumes; .mhd and .nhdr then write .raw "
+                        "data files).",
+                        "compressed where the format allows",
+                        {} };
+  Option threads{ "--threads",
+                  "N",
+                  "Number of ITK work units to use (the filter runs at most one thread per core); 0 uses ITK's "
+                  "default (the number of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not "
+                  "depend on it.",
+                  "0",
+                  parameter("integer", "threads", "Threads", "Advanced") };
+  threads.Slicer.Minimum = "0";
+  threads.Slicer.Maximum = "1024";
+  Option quiet{ "--quiet",
+                "",
+                "Print neither progress nor the summary; errors are still reported on stderr.",
+                "",
+                parameter("boolean", "quiet", "Quiet", "Advanced") };
+  Option progressXml{ "--progress-xml",
+                      "",
+                      "Report progress as 3D Slicer reads it, <filter-start>, <filter-progress> and <filter-end> "
+                      "lines on stdout, instead of on stderr. Slicer passes it (a hidden parameter of --xml).",
+                      "",
+                      parameter("boolean", "progressXml", "Progress for Slicer", "Advanced") };
+  progressXml.Slicer.Default = "true";
+  progressXml.Slicer.Hidden = true;
+  tool.Options = {
+    isovalue,
+    maxSize,
+    maxVolume,
+    side,
+    fullyConnected,
+    removedMask,
+    stats,
+#ifdef SIC_HAVE_VTK
+    surface,
+    surfaceBefore,
+    render,
+#endif
+    memoryLimit,
+    noCompression,
+    threads,
+    quiet,
+    progressXml,
+    { "--xml", "", "Print the tool's 3D Slicer Execution Model description (XML) and exit.", "", {} },
+    { "--help", "", "Print this help and exit (also -h).", "", {} },
+  };
+
+  tool.Epilogue = "While it works, the tool shows progress on stderr (a bar on a terminal, a line per\n"
+                  "stage otherwise), then prints a one-paragraph summary on stdout. The output image,\n"
+                  "the mask and the statistics appear together, once all of them were written; after\n"
+                  "a failure none of them is written or changed.\n"
+                  "\n"
+                  "Exit status:\n"
+                  "  0  success\n"
+                  "  1  the processing failed (e.g. out of memory)\n"
+                  "  2  a wrong command line, an unreadable or unsupported input, or an output that\n"
+                  "     cannot be written; one line on stderr says what was wrong and what was expected\n"
+                  "\n"
+                  "Example: remove specks and bubbles of at most 20 voxels at isovalue 150, keeping a\n"
+                  "mask of the changed voxels and the statistics:\n"
+                  "  SmallIsoComponentFilter ct.nrrd ct-clean.nrrd --isovalue 150 --max-size 20 \\\n"
+                  "      --removed-mask removed.nrrd --stats stats.json\n";
+
+  tool.Category = "Surface Models";
+  tool.Title = "Small Iso Component Filter";
+  tool.Version = SIC_VERSION;
+  tool.Contributor = "SmallIsoComponent contributors";
+  tool.License = "Apache 2.0";
+  tool.Acknowledgements = "Built on the Insight Toolkit (ITK).";
+  return tool;
+}
+
+sic::FilterSettings
+ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & arguments)
+{
+  sic::CheckPositionals(tool, arguments);
+  sic::FilterSettings settings;
+  settings.Input = arguments.Positionals()[0];
+  settings.Output = arguments.Positionals()[1];
+  if (!arguments.Has("--isovalue"))
+  {
+    throw sic::ToolError("missing --isovalue S; expected the isovalue in the image's intensity units, e.g. "
+                         "--isovalue 150");
+  }
+  settings.IsoValue = sic::ParseNumber("--isovalue", arguments.Value("--isovalue"));
+  if (arguments.Has("--max-size"))
+  {
+    settings.MaximumSize = sic::ParseCount("--max-size", arguments.Value("--max-size"));
+    settings.MaximumSizeGiven = true;
+  }
+  if (arguments.Has("--max-volume"))
+  {
+    const double volume = sic::ParseNumber("--max-volume", arguments.Value("--max-volume"));
+    if (volume < 0.0)
+    {
+      throw sic::ToolError("--max-volume '" + arguments.Value("--max-volume") +
+                           "' is negative; expected a volume >= 0 in mm³");
+    }
+    settings.MaximumVolume = volume;
+  }
+  if (settings.UsesVolume() && settings.MaximumSizeGiven && settings.MaximumSize > 0)
+  {
+    throw sic::ToolError("both --max-size (" + arguments.Value("--max-size") + " voxels) and --max-volume (" +
+                         arguments.Value("--max-volume") +
+                         " mm³) are given; expected one of them (or set the other to 0)");
+  }
+  if (arguments.Has("--side"))
+  {
+    settings.Side = sic::ParseChoice("--side", arguments.Value("--side"), { "above", "below", "both" });
+  }
+  settings.FullyConnected = arguments.Has("--fully-connected");
+  settings.RemovedMask = arguments.Value("--removed-mask");
+  settings.Stats = arguments.Value("--stats");
+#ifdef SIC_HAVE_VTK
+  settings.Surface = arguments.Value("--surface");
+  settings.SurfaceBefore = arguments.Value("--surface-before");
+  settings.Render = arguments.Value("--render");
+#endif
+  sic::CheckPathsNotEmpty(arguments, { "--removed-mask", "--stats", "--surface", "--surface-before", "--render" });
+  settings.Threads = sic::ParseThreads(arguments);
+  if (arguments.Has("--memory-limit"))
+  {
+    settings.MemoryLimit = sic::ParseByteCount(arguments.Value("--memory-limit"), "--memory-limit");
+  }
+  settings.Compress = !arguments.Has("--no-compression");
+  settings.Quiet = arguments.Has("--quiet");
+  settings.ProgressXml = arguments.Has("--progress-xml");
+  return settings;
+}
+
+itk::SmallIsoComponentEnums::Side
+SideOf(const std::string & side)
+{
+  using SideEnum = itk::SmallIsoComponentEnums::Side;
+  return side == "above" ? SideEnum::Above : side == "below" ? SideEnum::Below : SideEnum::Both;
+}
+
+template <typename TFilter>
+sic::SideReport
+SideStatistics(const TFilter & filter, itk::SmallIsoComponentEnums::Side side)
+{
+  sic::SideReport report;
+  report.Components = filter.GetNumberOfComponents(side);
+  report.RemovedComponents = filter.GetNumberOfRemovedComponents(side);
+  report.RemovedVoxels = filter.GetNumberOfRemovedVoxels(side);
+  for (const auto & [size, count] : filter.GetComponentSizeHistogram(side))
+  {
+    report.Histogram[size] = count;
+  }
+  return report;
+}
+
+/** Where each output is written before it is moved into place. */
+struct StagedPaths
+{
+  std::string Image;
+  std::string RemovedMask;
+  std::string Surface;
+  std::string SurfaceBefore;
+  std::string Render;
+};
+
+#ifdef SIC_HAVE_VTK
+/** The isosurfaces of a run of the filter, kept in index coordinates until the removed
+ * triangles are known, then moved to physical coordinates and written or rendered. */
+template <typename TImage, typename TFilter>
+void
+WriteSurfaces(const sic::FilterSettings &  settings,
+              const StagedPaths &          staged,
+              vtkSmartPointer<vtkPolyData> before,
+              TFilter &                    filter,
+              sic::ProgressReporter &      progress,
+              sic::FilterReport &          report)
+{
+  const TImage *               output = filter.GetOutput();
+  const sic::SurfaceGeometry   geometry = sic::SurfaceGeometryOf(*output);
+  vtkSmartPointer<vtkPolyData> after;
+  if (!settings.Surface.empty() || !settings.Render.empty())
+  {
+    progress.Stage("extracting the filtered isosurface", 0.85, 0.88);
+    after = sic::ExtractIsosurface(sic::SurfaceGridOf(*output), settings.IsoValue);
+    report.SurfacePiecesAfter = sic::CountSurfacePieces(*after);
+  }
+  sic::RemovedTriangles removed;
+  if (before)
+  {
+    report.SurfacePiecesBefore = sic::CountSurfacePieces(*before);
+    const auto & size = output->GetBufferedRegion().GetSize();
+    removed = sic::TrianglesOfChangedCells(
+      *before, filter.GetRemovedMask()->GetBufferPointer(), { { size[0], size[1], size[2] } }, true);
+    report.RemovedSurfacePieces = sic::CountSurfacePieces(*removed.All);
+  }
+  if (!settings.Render.empty())
+  {
+    for (vtkPolyData * surface : { removed.Specks.Get(), removed.Bubbles.Get() })
+    {
+      sic::TransformToPhysical(*surface, geometry);
+    }
+  }
+  for (vtkPolyData * surface : { before.Get(), after.Get() })
+  {
+    if (surface != nullptr)
+    {
+      sic::TransformToPhysical(*surface, geometry);
+    }
+  }
+  if (!settings.SurfaceBefore.empty())
+  {
+    progress.Stage("writing " + settings.SurfaceBefore, 0.88, 0.9);
+    sic::WriteSurface(*before, staged.SurfaceBefore, settings.SurfaceBefore, "input's isosurface");
+  }
+  if (!settings.Surface.empty())
+  {
+    progress.Stage("writing " + settings.Surface, 0.9, 0.92);
+    sic::WriteSurface(*after, staged.Surface, settings.Surface, "isosurface");
+  }
+  if (!settings.Render.empty())
+  {
+    progress.Stage("rendering " + settings.Render, 0.92, 0.95);
+    const auto pieces = [](std::uint64_t count) { return std::to_string(count) + (count == 1 ? " piece" : " pieces"); };
+    sic::RenderScene scene;
+    scene.Before = before;
+    scene.After = after;
+    scene.RemovedSpecks = removed.Specks;
+    scene.RemovedBubbles = removed.Bubbles;
+    scene.Labels = { "Original: " + pieces(*report.SurfacePiecesBefore),
+                     "Filtered: " + pieces(*report.SurfacePiecesAfter),
+                     "Removed: " + pieces(*report.RemovedSurfacePieces) + " (specks red, bubbles blue)",
+                     "Filtered + removed: " + std::to_string(*report.SurfacePiecesAfter) + " + " +
+                       pieces(*report.RemovedSurfacePieces) };
+    const sic::HeadlessDisplay display;
+    sic::RenderPanels(scene, staged.Render, settings.Render);
+  }
+}
+#endif
+
+template <typename TImage>
+sic::FilterReport
+FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, sic::ProgressReporter & progress)
+{
+  using FilterType = itk::SmallIsoComponentImageFilter<TImage>;
+
+  progress.Stage("reading " + settings.Input, 0.0, 0.1);
+  typename TImage::Pointer image = sic::ReadImage<TImage>(settings.Input, "input", progress.Observer());
+#ifdef SIC_HAVE_VTK
+  // The input's surface is taken before filtering in place overwrites the input.
+  vtkSmartPointer<vtkPolyData> before;
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    if (!settings.SurfaceBefore.empty() || !settings.Render.empty())
+    {
+      progress.Stage("extracting the input's isosurface", 0.1, 0.12);
+      before = sic::ExtractIsosurface(sic::SurfaceGridOf(*image), settings.IsoValue);
+    }
+  }
+#endif
+
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  // The input is not needed afterwards: filtering in place saves a copy of the volume.
+  filter->InPlaceOn();
+  filter->SetIsoValue(settings.IsoValue);
+  if (settings.UsesVolume())
+  {
+    filter->SetMaximumComponentVolume(*settings.MaximumVolume);
+  }
+  else
+  {
+    filter->SetMaximumComponentSize(settings.MaximumSize);
+  }
+  filter->SetSide(SideOf(settings.Side));
+  filter->SetFullyConnected(settings.FullyConnected);
+  if (settings.Threads > 0)
+  {
+    filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  filter->AddObserver(itk::ProgressEvent(), progress.Observer());
+  image = nullptr;
+
+  progress.Stage("removing small components", 0.1, 0.85);
+  const auto start = std::chrono::steady_clock::now();
+  filter->Update();
+  const auto stop = std::chrono::steady_clock::now();
+
+  sic::FilterReport report;
+#ifdef SIC_HAVE_VTK
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    WriteSurfaces<TImage>(settings, staged, before, *filter, progress, report);
+  }
+#endif
+
+  progress.Stage("writing " + settings.Output, 0.95, settings.RemovedMask.empty() ? 1.0 : 0.98);
+  sic::WriteImage(
+    filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer(), settings.Compress);
+  if (!settings.RemovedMask.empty())
+  {
+    progress.Stage("writing " + settings.RemovedMask, 0.98, 1.0);
+    sic::WriteImage(filter->GetRemovedMask(),
+                    staged.RemovedMask,
+                    settings.RemovedMask,
+                    "removed-voxel mask",
+                    progress.Observer(),
+                    settings.Compress);
+  }
+
+  report.EffectiveMaximumSize = filter->GetEffectiveMaximumComponentSize();
+  report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  report.WorkUnits = filter->GetNumberOfWorkUnits();
+  report.Above = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Above);
+  report.Below = SideStatistics(*filter, itk::SmallIsoComponentEnums::Side::Below);
+  report.ModifiedVoxels = filter->GetNumberOfModifiedVoxels();
+  report.UnrepairableVoxels = filter->GetNumberOfUnrepairableVoxels();
+  report.PeakExtraBytes = filter->GetPeakExtraMemoryInBytes();
+  report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
+  return report;
+}
+
+/** The memory limit to stream under: --memory-limit, or three quarters of the available memory when
+ * the input would not fit in it and every file streams; 0 to filter in memory. */
+std::uint64_t
+StreamingLimit(const sic::FilterSettings & settings, const sic::ScalarImageInfo & info)
+{
+  const bool streamable = sic::IsStreamableImageFile(settings.Input) && sic::IsStreamableImageFile(settings.Output) &&
+                          (settings.RemovedMask.empty() || sic::IsStreamableImageFile(settings.RemovedMask));
+  const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
+  if (settings.MemoryLimit > 0)
+  {
+    if (!streamable)
+    {
+      throw sic::ToolError("--memory-limit needs an input and outputs that stream: " + sic::StreamableFormats());
+    }
+    if (surfaces)
+    {
+      throw sic::ToolError("--surface, --surface-before and --render need the whole volume in memory; they cannot be "
+                           "combined with --memory-limit");
+    }
+    return settings.MemoryLimit;
+  }
+  // In memory the image is filtered in place: its voxels, the mask if asked for, and a fraction of
+  // a byte per voxel beyond.
+  std::uint64_t voxels = 1;
+  for (const auto size : info.Size)
+  {
+    voxels *= size;
+  }
+  sic::VolumeGeometry geometry;
+  geometry.ComponentType = info.ComponentType;
+  const std::uint64_t needed =
+    voxels * geometry.PixelBytes() + (settings.RemovedMask.empty() ? 0 : voxels) + voxels / 2;
+  const std::uint64_t available = sic::AvailableMemoryBytes();
+  if (available > 0 && needed > available && streamable && !surfaces)
+  {
+    return available / 4 * 3;
+  }
+  return 0;
+}
+
+/** The streaming mode: the image read, filtered and written plane by plane within \a limit bytes. */
+sic::FilterReport
+FilterStreamed(const sic::FilterSettings & settings,
+               const StagedPaths &         staged,
+               std::uint64_t               limit,
+               sic::ProgressReporter &     progress)
+{
+  sic::PlaneReader            input(settings.Input, "input");
+  const sic::VolumeGeometry & geometry = input.GetGeometry();
+  std::uint64_t               maximumSize = settings.MaximumSize;
+  if (settings.UsesVolume())
+  {
+    double voxelVolume = 1.0;
+    for (const double spacing : geometry.Spacing)
+    {
+      voxelVolume *= spacing;
+    }
+    maximumSize =
+      itk::SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(*settings.MaximumVolume, voxelVolume);
+  }
+  // What the process holds already (libraries, the tool) is not the sweep's to use.
+  const std::uint64_t baseline = sic::PeakResidentBytes();
+  const std::uint64_t budget = limit > baseline ? limit - baseline : 0;
+  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, maximumSize, budget);
+  if (slabPlanes == 0)
+  {
+    const std::uint64_t needed = baseline + sic::StreamingWorkingBytes(geometry, maximumSize, 1);
+    throw sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
+                         " MiB is too small to stream this image with K = " + std::to_string(maximumSize) +
+                         ": it needs about " + std::to_string((needed >> 20) + 1) + " MiB (a window of " +
+                         std::to_string(2 * maximumSize + 6) + " planes of " + std::to_string(geometry.PlaneVoxels()) +
+                         " voxels); expected a larger limit or a smaller K");
+  }
+  if (!settings.Compress)
+  {
+    // Uncompressed outputs have a known size: make sure the disk has room before the long run.
+    std::uint64_t bytes = geometry.PlaneVoxels() * geometry.Planes() * geometry.PixelBytes();
+    bytes += settings.RemovedMask.empty() ? 0 : geometry.PlaneVoxels() * geometry.Planes();
+    std::error_code error;
+    const auto      space = std::filesystem::space(std::filesystem::path(staged.Image).parent_path(), error);
+    if (!error && space.available < bytes)
+    {
+      throw sic::ToolError("cannot write the outputs: they take " + std::to_string(bytes >> 20) +
+                           " MiB and the disk has " + std::to_string(space.available >> 20) + " MiB free");
+    }
+  }
+  progress.Stage("removing small components plane by plane", 0.0, 1.0);
+  sic::FilterReport report;
+  sic::RunStreamedFilter(
+    input,
+    settings,
+    { staged.Image, staged.RemovedMask },
+    maximumSize,
+    slabPlanes,
+    [&](double done) { progress.Update(done); },
+    report);
+  report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  report.MemoryLimit = limit;
+  const std::uint64_t peak = sic::PeakResidentBytes();
+  if (peak > limit && !settings.Quiet)
+  {
+    std::cerr << ToolName << ": note: the run held " << (peak >> 20) << " MiB, more than the limit of " << (limit >> 20)
+              << " MiB: the image has more scanline runs than the plan assumed (about one every eight voxels)"
+              << std::endl;
+  }
+  return report;
+}
+
+int
+Run(const sic::FilterSettings & settings)
+{
+  const auto                 start = std::chrono::steady_clock::now();
+  const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(settings.Input, "input");
+
+  // Every output is checked, and its staging place made, before the work starts.
+  sic::StagedOutputs outputs;
+  outputs.Protect(settings.Input, "the input image");
+  StagedPaths staged;
+  staged.Image = outputs.Stage(settings.Output, "output image");
+  sic::CheckImageFileFormat(settings.Output, "output image", info.Dimension);
+  if (!settings.RemovedMask.empty())
+  {
+    staged.RemovedMask = outputs.Stage(settings.RemovedMask, "removed-voxel mask");
+    sic::CheckImageFileFormat(settings.RemovedMask, "removed-voxel mask", info.Dimension);
+  }
+  const std::string stagedStats = settings.Stats.empty() ? "" : outputs.Stage(settings.Stats, "statistics");
+#ifdef SIC_HAVE_VTK
+  const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
+  if (surfaces && info.Dimension != 3)
+  {
+    throw sic::ToolError("--surface, --surface-before and --render need a 3-D image and '" + settings.Input + "' is " +
+                         std::to_string(info.Dimension) + "-D; expected a volume");
+  }
+  if (!settings.Surface.empty())
+  {
+    sic::CheckSurfaceFileFormat(settings.Surface, "isosurface");
+    staged.Surface = outputs.Stage(settings.Surface, "isosurface");
+  }
+  if (!settings.SurfaceBefore.empty())
+  {
+    sic::CheckSurfaceFileFormat(settings.SurfaceBefore, "input's isosurface");
+    staged.SurfaceBefore = outputs.Stage(settings.SurfaceBefore, "input's isosurface");
+  }
+  if (!settings.Render.empty())
+  {
+    if (std::filesystem::path(settings.Render).extension() != ".png")
+    {
+      throw sic::ToolError("cannot write the rendering '" + settings.Render + "': expected a .png file");
+    }
+    staged.Render = outputs.Stage(settings.Render, "rendering");
+    sic::HeadlessDisplay::CheckAvailable();
+  }
+#endif
+
+  if (settings.Threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  std::ostringstream comment;
+  comment << "Removing components of at most " << (settings.UsesVolume() ? "the maximum volume" : "K voxels")
+          << " at isovalue " << settings.IsoValue;
+  sic::ProgressReporter progress(
+    sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml), ToolName, comment.str());
+  sic::FilterReport   report;
+  const std::uint64_t limit = StreamingLimit(settings, info);
+  if (limit > 0)
+  {
+    report = FilterStreamed(settings, staged, limit, progress);
+  }
+  else
+  {
+    report = sic::DispatchScalarImage(
+      info, [&](auto tag) { return FilterImage<typename decltype(tag)::ImageType>(settings, staged, progress); });
+  }
+  report.PeakResidentBytes = sic::PeakResidentBytes();
+  report.Input = info;
+  report.TotalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (!stagedStats.empty())
+  {
+    std::ostringstream json;
+    sic::WriteStatisticsJson(json, ToolName, SIC_VERSION, settings, report);
+    sic::WriteTextFile(stagedStats, settings.Stats, "statistics", json.str());
+  }
+  outputs.Commit();
+  progress.Finish();
+  if (!settings.Quiet)
+  {
+    sic::WriteSummary(std::cout, settings, report);
+  }
+  return sic::ExitSuccess;
+}
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  const sic::ToolDescription tool = DescribeTool();
+  return sic::ToolMain(
+    tool, argc, argv, [&tool](const sic::ParsedCommandLine & arguments) { return Run(ReadSettings(tool, arguments)); });
+}

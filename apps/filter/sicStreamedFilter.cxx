@@ -1,0 +1,273 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicStreamedFilter.h"
+#include "sicToolError.h"
+
+#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentStreamingSweep.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace sic
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double
+Seconds(Clock::duration duration)
+{
+  return std::chrono::duration<double>(duration).count();
+}
+
+itk::SmallIsoComponentEnums::Side
+SideOf(const std::string & side)
+{
+  using Side = itk::SmallIsoComponentEnums::Side;
+  return side == "above" ? Side::Above : (side == "below" ? Side::Below : Side::Both);
+}
+
+void
+Fill(SideReport & report, const itk::SmallIsoComponentDetail::SideTally & tally)
+{
+  report.Components = tally.GetComponents();
+  report.RemovedComponents = tally.GetRemovedComponents();
+  report.RemovedVoxels = tally.GetRemovedVoxels();
+  report.Histogram = tally.GetHistogram();
+}
+
+template <typename TPixel>
+void
+RunStreamed(PlaneReader &                       input,
+            const FilterSettings &              settings,
+            const StreamedOutputs &             outputs,
+            std::uint64_t                       maximumSize,
+            std::uint64_t                       slabPlanes,
+            const std::function<void(double)> & progress,
+            FilterReport &                      report)
+{
+  const VolumeGeometry & geometry = input.GetGeometry();
+  PlaneWriter            image(outputs.Image, settings.Output, "output image", geometry, settings.Compress);
+  VolumeGeometry         maskGeometry = geometry;
+  maskGeometry.ComponentType = itk::IOComponentEnum::UCHAR;
+  std::unique_ptr<PlaneWriter> mask;
+  if (!outputs.RemovedMask.empty())
+  {
+    mask = std::make_unique<PlaneWriter>(
+      outputs.RemovedMask, settings.RemovedMask, "removed-voxel mask", maskGeometry, settings.Compress);
+  }
+  // The image as a box whose planes are along its last axis (a 2-D image's are its lines).
+  const itk::SmallIsoComponentDetail::BlockSummary::IndexType box =
+    geometry.Dimension == 3
+      ? itk::SmallIsoComponentDetail::BlockSummary::IndexType{ geometry.Size[0], geometry.Size[1], geometry.Size[2] }
+      : itk::SmallIsoComponentDetail::BlockSummary::IndexType{ geometry.Size[0], 1, geometry.Size[1] };
+  auto threader = itk::MultiThreaderBase::New();
+  if (settings.Threads > 0)
+  {
+    threader->SetMaximumNumberOfThreads(static_cast<unsigned int>(settings.Threads));
+    threader->SetNumberOfWorkUnits(static_cast<unsigned int>(settings.Threads));
+  }
+  const unsigned int workUnits = threader->GetNumberOfWorkUnits();
+
+  Clock::duration                                      writing{};
+  std::vector<uint8_t>                                 maskPlane(geometry.PlaneVoxels());
+  const uint64_t                                       planes = geometry.Planes();
+  itk::SmallIsoComponentDetail::StreamingSweep<TPixel> sweep(
+    box,
+    settings.IsoValue,
+    maximumSize,
+    SideOf(settings.Side),
+    settings.FullyConnected,
+    slabPlanes,
+    mask != nullptr,
+    threader,
+    workUnits,
+    [&](uint64_t plane, const TPixel * values, const uint8_t * planeMask) {
+      const auto start = Clock::now();
+      image.Write(values, 1);
+      if (mask)
+      {
+        // The sweep marks voxels that got the fallback value in the upper bits.
+        for (std::size_t v = 0; v < maskPlane.size(); ++v)
+        {
+          maskPlane[v] = planeMask[v] & 3;
+        }
+        mask->Write(maskPlane.data(), 1);
+      }
+      writing += Clock::now() - start;
+      progress(static_cast<double>(plane + 1) / static_cast<double>(planes));
+    });
+
+  const auto          start = Clock::now();
+  Clock::duration     reading{};
+  std::vector<TPixel> slab(slabPlanes * geometry.PlaneVoxels());
+  for (uint64_t done = 0; done < planes;)
+  {
+    const uint64_t count = std::min(slabPlanes, planes - done);
+    const auto     readStart = Clock::now();
+    input.Read(slab.data(), count);
+    reading += Clock::now() - readStart;
+    sweep.Push(slab.data(), count);
+    done += count;
+  }
+  input.Finish();
+  sweep.Finish();
+  const auto finishStart = Clock::now();
+  image.Finish();
+  if (mask)
+  {
+    mask->Finish();
+  }
+  writing += Clock::now() - finishStart;
+  const double total = Seconds(Clock::now() - start);
+
+  const auto & tally = sweep.GetTally();
+  report.EffectiveMaximumSize = maximumSize;
+  report.WorkUnits = workUnits;
+  Fill(report.Above, tally.Above);
+  Fill(report.Below, tally.Below);
+  report.ModifiedVoxels = tally.ModifiedVoxels;
+  report.UnrepairableVoxels = tally.UnrepairableVoxels + sweep.GetNumberOfFallbackVoxels();
+  report.PeakExtraBytes = sweep.GetPeakMemoryInBytes();
+  report.Streaming = true;
+  report.SlabPlanes = slabPlanes;
+  report.ReadSeconds = Seconds(reading);
+  report.WriteSeconds = Seconds(writing);
+  report.FilterSeconds = total - report.ReadSeconds - report.WriteSeconds;
+}
+} // namespace
+
+std::uint64_t
+ParseByteCount(const std::string & text, const std::string & option)
+{
+  const auto bad = [&] {
+    throw ToolError(option + " '" + text +
+                    "' is not a byte count; expected a whole number with an optional suffix "
+                    "K, M, G or T (powers of 1024), e.g. 512M or 8G");
+  };
+  std::size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits])))
+  {
+    ++digits;
+  }
+  if (digits == 0 || digits > 15)
+  {
+    bad();
+  }
+  const uint64_t number = std::stoull(text.substr(0, digits));
+  std::string    suffix = text.substr(digits);
+  for (char & c : suffix)
+  {
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  if (suffix.size() == 2 && suffix[1] == 'B')
+  {
+    suffix.pop_back();
+  }
+  unsigned int shift = 0;
+  if (suffix == "K")
+  {
+    shift = 10;
+  }
+  else if (suffix == "M")
+  {
+    shift = 20;
+  }
+  else if (suffix == "G")
+  {
+    shift = 30;
+  }
+  else if (suffix == "T")
+  {
+    shift = 40;
+  }
+  else if (!suffix.empty() && suffix != "B")
+  {
+    bad();
+  }
+  if (number == 0 || number > (std::numeric_limits<uint64_t>::max() >> shift))
+  {
+    bad();
+  }
+  return number << shift;
+}
+
+std::uint64_t
+StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t slabPlanes)
+{
+  const uint64_t planeVoxels = geometry.PlaneVoxels();
+  const uint64_t window = itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes);
+  // Per plane held: its voxels, and its run labelling (runs, components, their fates) at about a byte a
+  // voxel, which is what smooth and moderately noisy volumes take (a run every eight voxels or
+  // fewer); then the face layers of two summaries (4 bytes a voxel each), the slab being read and the
+  // plane being written. Denser data (noise at every voxel) take more: the run reports its peak.
+  const uint64_t perPlane = planeVoxels * (geometry.PixelBytes() + 1);
+  return window * perPlane + 2 * 4 * planeVoxels + (slabPlanes + 1) * planeVoxels * geometry.PixelBytes() +
+         planeVoxels * 2;
+}
+
+std::uint64_t
+SlabPlanesForBudget(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t budget)
+{
+  uint64_t best = 0;
+  for (uint64_t planes = 1; planes <= geometry.Planes(); planes = planes < 8 ? planes + 1 : planes + planes / 4)
+  {
+    if (StreamingWorkingBytes(geometry, maximumSize, planes) > budget)
+    {
+      break;
+    }
+    best = planes;
+  }
+  return best;
+}
+
+void
+RunStreamedFilter(PlaneReader &                       input,
+                  const FilterSettings &              settings,
+                  const StreamedOutputs &             outputs,
+                  std::uint64_t                       maximumSize,
+                  std::uint64_t                       slabPlanes,
+                  const std::function<void(double)> & progress,
+                  FilterReport &                      report)
+{
+  switch (input.GetGeometry().ComponentType)
+  {
+    case itk::IOComponentEnum::UCHAR:
+      return RunStreamed<uint8_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::CHAR:
+      return RunStreamed<int8_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::USHORT:
+      return RunStreamed<uint16_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::SHORT:
+      return RunStreamed<int16_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::UINT:
+      return RunStreamed<uint32_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::INT:
+      return RunStreamed<int32_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::FLOAT:
+      return RunStreamed<float>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    case itk::IOComponentEnum::DOUBLE:
+      return RunStreamed<double>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    default:
+      throw ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +
+                      " is not supported; expected one of " + SupportedPixelTypes());
+  }
+}
+} // namespace sic

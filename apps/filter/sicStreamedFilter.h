@@ -1,0 +1,67 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef sicStreamedFilter_h
+#define sicStreamedFilter_h
+
+#include "sicFilterReport.h"
+#include "sicStreamedImageFiles.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace sic
+{
+/** Parses a byte count with an optional suffix (K, M, G, T: powers of 1024, an optional B, any
+ * case), e.g. "512M", "8G", "1000000". Throws ToolError naming \a option otherwise. */
+std::uint64_t
+ParseByteCount(const std::string & text, const std::string & option);
+
+/** The bytes of memory the streaming mode holds for an image of \a geometry with slabs of
+ * \a slabPlanes planes and components of at most \a maximumSize voxels: the input planes of the
+ * window, their run labelling at about a byte a voxel (a run every eight voxels or fewer), the
+ * summaries' face layers and the planes being read and written. */
+std::uint64_t
+StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t slabPlanes);
+
+/** The thickest slab (in planes, at most the image's depth) whose working memory fits in
+ * \a budget bytes, or 0 when even slabs of one plane do not fit. */
+std::uint64_t
+SlabPlanesForBudget(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t budget);
+
+/** Where a streamed run writes: the staged paths of the image and the mask (empty: none). */
+struct StreamedOutputs
+{
+  std::string Image;
+  std::string RemovedMask;
+};
+
+/** Filters \a input into the staged outputs plane by plane with slabs of \a slabPlanes planes and
+ * components of at most \a maximumSize voxels, never holding the whole image; fills \a report
+ * (statistics, times of reading, filtering and writing). \a progress receives the fraction done. */
+void
+RunStreamedFilter(PlaneReader &                       input,
+                  const FilterSettings &              settings,
+                  const StreamedOutputs &             outputs,
+                  std::uint64_t                       maximumSize,
+                  std::uint64_t                       slabPlanes,
+                  const std::function<void(double)> & progress,
+                  FilterReport &                      report);
+} // namespace sic
+
+#endif

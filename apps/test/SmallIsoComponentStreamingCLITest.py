@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+# Copyright SmallIsoComponent contributors. Licensed under the Apache License, Version 2.0.
+"""SmallIsoComponentFilter's streaming mode (--memory-limit, or an input larger than the memory it
+may use): the same voxels, mask and statistics as the in-memory run, in every format that streams,
+within the memory asked for; and its errors.
+
+Environment: SIC_FILTER, SIC_PHANTOM, SIC_PROBE (see SmallIsoComponentCLITest.py), SIC_HAVE_VTK,
+SIC_SCRATCH.
+"""
+
+import json
+import os
+import sys
+import unittest
+
+from sic_tool_test import USAGE_ERROR, ToolTestCase, run
+
+FILTER = os.environ.get("SIC_FILTER", "")
+PHANTOM = os.environ.get("SIC_PHANTOM", "")
+PROBE = os.environ.get("SIC_PROBE", "")
+HAVE_VTK = os.environ.get("SIC_HAVE_VTK", "0") == "1"
+ISOVALUE = "150"
+# The statistics that describe the image (not how the run went).
+IMAGE_STATISTICS = ("above", "below", "modified_voxels", "unrepairable_voxels")
+
+
+def load_json(path):
+    with open(path, encoding="utf-8") as file:
+        return json.load(file)
+
+
+class SmallIsoComponentStreamingCLITest(ToolTestCase):
+    def phantom(self, size, name="phantom.nrrd", *options):
+        path = self.path(name)
+        self.check(run(PHANTOM, path, "--size", size, *options))
+        return path
+
+    def filtered(self, source, output, *options):
+        """Runs the filter with a mask and statistics; returns the statistics."""
+        stem = os.path.splitext(output)[0]
+        extension = os.path.splitext(output)[1]
+        self.check(run(FILTER, source, output, "--isovalue", ISOVALUE, "--max-size", "20", "--removed-mask",
+                       stem + "-mask" + extension, "--stats", stem + ".json", "--quiet", *options))
+        return load_json(stem + ".json")
+
+    def assertSameImages(self, a, b):
+        result = run(PROBE, "equal", a, b)
+        self.assertEqual(result.returncode, 0, a + " and " + b + ": " + result.stdout + result.stderr)
+
+    def assertSameStatistics(self, streamed, in_memory):
+        for key in IMAGE_STATISTICS:
+            self.assertEqual(streamed["statistics"][key], in_memory["statistics"][key], key)
+        self.assertEqual(streamed["statistics"]["mode"], "streaming")
+        self.assertEqual(in_memory["statistics"]["mode"], "in-memory")
+
+    def test_every_streaming_format_gives_the_in_memory_result(self):
+        source = self.phantom("48")
+        reference = self.filtered(source, self.path("memory.nrrd"))
+        for extension in (".mha", ".mhd", ".nrrd", ".nhdr"):
+            for compress in (True, False):
+                with self.subTest(extension=extension, compress=compress):
+                    output = self.path("streamed-" + ("c" if compress else "r") + extension)
+                    options = ["--memory-limit", "512M"] + ([] if compress else ["--no-compression"])
+                    streamed = self.filtered(source, output, *options)
+                    self.assertSameStatistics(streamed, reference)
+                    self.assertSameImages(output, self.path("memory.nrrd"))
+                    self.assertSameImages(os.path.splitext(output)[0] + "-mask" + extension, self.path("memory-mask.nrrd"))
+                    self.assertEqual(streamed["statistics"]["memory_limit_bytes"], 512 << 20)
+                    # The streamed file reads back in the streaming mode too.
+                    again = self.filtered(output, self.path("again" + extension), "--memory-limit", "512M")
+                    self.assertEqual(again["statistics"]["modified_voxels"], 0)
+
+    def test_a_small_limit_streams_in_thin_slabs(self):
+        source = self.phantom("256", "big.mha", "--no-compression")  # 32 MiB of int16 voxels
+        reference = self.filtered(source, self.path("memory.mha"), "--no-compression")
+        limit = 100 << 20
+        streamed = self.filtered(source, self.path("streamed.mha"), "--memory-limit", str(limit), "--no-compression")
+        self.assertSameStatistics(streamed, reference)
+        self.assertSameImages(self.path("streamed.mha"), self.path("memory.mha"))
+        self.assertLess(streamed["statistics"]["slab_planes"], 256)
+        self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
+        for key in ("read_seconds", "write_seconds"):
+            self.assertGreaterEqual(streamed["statistics"][key], 0.0)
+
+    def test_two_dimensional_images_stream_by_lines(self):
+        self.check(run(PROBE, "make", self.path("flat.mha"), "int16", "2"))
+        reference = self.filtered(self.path("flat.mha"), self.path("memory.mha"))
+        streamed = self.filtered(self.path("flat.mha"), self.path("streamed.nhdr"), "--memory-limit", "256M")
+        self.assertSameStatistics(streamed, reference)
+        self.assertSameImages(self.path("streamed.nhdr"), self.path("memory.mha"))
+
+    def test_errors_are_one_line_and_write_nothing(self):
+        source = self.phantom("16")
+        cases = [
+            (["--memory-limit", "12Q"], "not a byte count"),
+            (["--memory-limit", "0"], "not a byte count"),
+            (["--memory-limit", "1K"], "too small"),
+        ]
+        for options, words in cases:
+            with self.subTest(options=options):
+                result = run(FILTER, source, self.path("out.mha"), "--isovalue", ISOVALUE, *options)
+                self.assertEqual(result.returncode, USAGE_ERROR, result.stderr)
+                self.assertIn(words, result.stderr)
+                self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+                self.assertFalse(os.path.exists(self.path("out.mha")))
+        result = run(FILTER, source, self.path("out.nii"), "--isovalue", ISOVALUE, "--memory-limit", "1G")
+        self.assertEqual(result.returncode, USAGE_ERROR)
+        self.assertIn("MetaImage", result.stderr)
+        if HAVE_VTK:
+            result = run(FILTER, source, self.path("out.mha"), "--isovalue", ISOVALUE, "--memory-limit", "1G",
+                         "--surface", self.path("s.vtp"))
+            self.assertEqual(result.returncode, USAGE_ERROR)
+            self.assertIn("whole volume", result.stderr)
+        self.assertEqual(sorted(os.listdir(self.dir)), ["phantom.nrrd"])
+
+    def test_a_volume_larger_than_a_memory_control_group_streams_by_itself(self):
+        """The tool in a control group whose memory limit is smaller than the volume: without
+        --memory-limit it must see the limit, stream, stay within it and give the in-memory result."""
+        group = None
+        for root, limit_file, procs in (("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "cgroup.procs"),
+                                        ("/sys/fs/cgroup", "memory.max", "cgroup.procs")):
+            if os.path.exists(os.path.join(root, limit_file if root.endswith("memory") else "cgroup.controllers")):
+                candidate = os.path.join(root, "smalliso-test-%d" % os.getpid())
+                try:
+                    os.mkdir(candidate)
+                except OSError:
+                    continue
+                group = (candidate, limit_file, procs)
+                break
+        if group is None:
+            print("skipped: no memory control group can be made here (needs root and a cgroup memory controller)")
+            raise unittest.SkipTest("no memory control group")
+        directory, limit_file, procs = group
+        try:
+            source = self.phantom("512", "large.mhd", "--no-compression")  # 256 MiB of int16 voxels
+            reference = self.filtered(source, self.path("memory.mhd"), "--no-compression")
+            limit = 192 << 20
+            try:
+                with open(os.path.join(directory, limit_file), "w") as file:
+                    file.write(str(limit))
+            except OSError as error:
+                print("skipped: the control group's memory limit cannot be set (%s)" % error)
+                raise unittest.SkipTest("no memory limit")
+            inside = ["sh", "-c", 'echo $$ > "$0" && exec "$@"', os.path.join(directory, procs),
+                      FILTER, source, self.path("streamed.mhd"), "--isovalue", ISOVALUE, "--max-size", "20",
+                      "--no-compression", "--stats", self.path("streamed.json"), "--quiet"]
+            self.check(run(*inside))
+            streamed = load_json(self.path("streamed.json"))
+            for key in IMAGE_STATISTICS:
+                self.assertEqual(streamed["statistics"][key], reference["statistics"][key], key)
+            self.assertEqual(streamed["statistics"]["mode"], "streaming")
+            self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
+            self.assertSameImages(self.path("streamed.mhd"), self.path("memory.mhd"))
+        finally:
+            try:
+                os.rmdir(directory)
+            except OSError:
+                pass
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1] + sys.argv[1:])

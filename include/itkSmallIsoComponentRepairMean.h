@@ -1,0 +1,119 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRepairMean_h
+#define itkSmallIsoComponentRepairMean_h
+
+#include "itkMath.h"
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+template <typename T>
+bool
+IsNaN(T value)
+{
+  if constexpr (std::is_floating_point<T>::value)
+  {
+    return std::isnan(value);
+  }
+  else
+  {
+    (void)value;
+    return false;
+  }
+}
+
+/** A mean of values of type T, as T: rounded half up for integers. */
+template <typename T>
+T
+MeanToPixel(double mean)
+{
+  if constexpr (std::is_integral<T>::value)
+  {
+    return static_cast<T>(Math::Round<int64_t>(mean));
+  }
+  else
+  {
+    return static_cast<T>(mean);
+  }
+}
+
+/** \class RepairMean
+ * \brief The mean of the values that the walks of one removed voxel find, the repair
+ * value of SmallIsoComponentImageFilter. Internal to the filter.
+ *
+ * A NaN is never a repair value and is not counted. The mean is the sum divided by the
+ * number of values, in double. Only a sum of doubles near the limits of the type can
+ * overflow (a bubble in samples of 1.7e308); then the mean is computed from the values
+ * scaled by 1/16, which cannot overflow for up to 16 values, and scaled back, so that it
+ * lies between the values as a mean does.
+ *
+ * \ingroup SmallIsoComponent
+ */
+class RepairMean
+{
+public:
+  template <typename T>
+  void
+  Add(T value)
+  {
+    if (!IsNaN(value))
+    {
+      const auto v = static_cast<double>(value);
+      m_Sum += v;
+      m_ScaledSum += v * Scale;
+      ++m_Count;
+    }
+  }
+
+  /** The number of values added (NaN not counted). */
+  unsigned int
+  GetCount() const
+  {
+    return m_Count;
+  }
+
+  /** The mean as a pixel value; GetCount() must be positive. */
+  template <typename TPixel>
+  TPixel
+  Get() const
+  {
+    if (std::isfinite(m_Sum) || !std::isfinite(m_ScaledSum))
+    {
+      return MeanToPixel<TPixel>(m_Sum / m_Count);
+    }
+    constexpr double largest = std::numeric_limits<double>::max();
+    const double     mean = m_ScaledSum / m_Count / Scale;
+    return MeanToPixel<TPixel>(std::max(-largest, std::min(largest, mean)));
+  }
+
+private:
+  static constexpr double Scale = 1.0 / 16.0;
+
+  double       m_Sum{ 0.0 };
+  double       m_ScaledSum{ 0.0 };
+  unsigned int m_Count{ 0 };
+};
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#endif

@@ -1,0 +1,192 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentStreamingImageFilter_h
+#define itkSmallIsoComponentStreamingImageFilter_h
+
+#include "itkImageToImageFilter.h"
+#include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentStreamingSweep.h"
+#include <deque>
+#include <map>
+#include <memory>
+#include <type_traits>
+
+namespace itk
+{
+/** \class SmallIsoComponentStreamingImageFilter
+ * \brief SmallIsoComponentImageFilter for images larger than memory: the same output, mask and
+ * statistics, computed from slabs of input along the slowest axis and given out in slabs.
+ *
+ * Connect it to a reader that can stream (MetaImage reads any region of an uncompressed file) and
+ * let a streaming writer pull its output in pieces (ImageFileWriter::SetNumberOfStreamDivisions(),
+ * or StreamingImageFilter): each piece is a range of planes along the last axis, and the filter
+ * asks its input only for the planes it has not seen yet, up to a bounded distance beyond the
+ * piece. Pieces are expected in order, as ITK's writers ask for them; a request for an earlier
+ * piece starts the sweep again from the first plane (correct, but the work is done again). Memory:
+ * a window of at most 2K + 4 + 2 SlabThickness planes with their run labelling, whatever the
+ * image's depth (see SmallIsoComponentDetail::StreamingSweep and docs/algorithm.md).
+ *
+ * Parameters and statistics are those of SmallIsoComponentImageFilter (IsoValue,
+ * MaximumComponentSize or MaximumComponentVolume, Side, FullyConnected); the statistics are valid
+ * once the last plane has been given out. Output 1 is the removed-voxel mask of each piece. Images
+ * of two and three dimensions; the input is converted to the output pixel type first.
+ *
+ * \sa SmallIsoComponentImageFilter
+ * \ingroup SmallIsoComponent
+ */
+template <typename TInputImage, typename TOutputImage = TInputImage>
+class ITK_TEMPLATE_EXPORT SmallIsoComponentStreamingImageFilter : public ImageToImageFilter<TInputImage, TOutputImage>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(SmallIsoComponentStreamingImageFilter);
+
+  using Self = SmallIsoComponentStreamingImageFilter;
+  using Superclass = ImageToImageFilter<TInputImage, TOutputImage>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  using InputImageType = TInputImage;
+  using OutputImageType = TOutputImage;
+  using InputPixelType = typename InputImageType::PixelType;
+  using OutputPixelType = typename OutputImageType::PixelType;
+  static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
+  using MaskPixelType = uint8_t;
+  using MaskImageType = Image<MaskPixelType, ImageDimension>;
+  using SideEnum = SmallIsoComponentEnums::Side;
+  using ComponentSizeHistogramType = std::map<SizeValueType, SizeValueType>;
+
+  static_assert(ImageDimension == 2 || ImageDimension == 3,
+                "SmallIsoComponentStreamingImageFilter handles images of two or three dimensions.");
+  static_assert(std::is_arithmetic<InputPixelType>::value && std::is_arithmetic<OutputPixelType>::value,
+                "SmallIsoComponentStreamingImageFilter needs scalar pixel types (integer or floating point).");
+
+  itkNewMacro(Self);
+#ifdef itkOverrideGetNameOfClassMacro
+  itkOverrideGetNameOfClassMacro(SmallIsoComponentStreamingImageFilter);
+#else
+  itkTypeMacro(SmallIsoComponentStreamingImageFilter, ImageToImageFilter);
+#endif
+
+  itkSetMacro(IsoValue, double);
+  itkGetConstMacro(IsoValue, double);
+  virtual void
+  SetMaximumComponentSize(SizeValueType size);
+  itkGetConstMacro(MaximumComponentSize, SizeValueType);
+  virtual void
+  SetMaximumComponentVolume(double volume);
+  itkGetConstMacro(MaximumComponentVolume, double);
+  itkGetConstMacro(UseMaximumComponentVolume, bool);
+  itkSetEnumMacro(Side, SideEnum);
+  itkGetEnumMacro(Side, SideEnum);
+  itkSetMacro(FullyConnected, bool);
+  itkGetConstReferenceMacro(FullyConnected, bool);
+  itkBooleanMacro(FullyConnected);
+  /** Planes labelled at a time (at least 1; default 8): thicker slabs cost memory, thinner ones
+   * more merges. */
+  itkSetClampMacro(SlabThickness, SizeValueType, 1, NumericTraits<SizeValueType>::max());
+  itkGetConstMacro(SlabThickness, SizeValueType);
+
+  MaskImageType *
+  GetRemovedMask();
+
+  /** \name Statistics, valid once the last plane has been given out */
+  /** @{ */
+  SizeValueType
+  GetNumberOfComponents(SideEnum side) const;
+  SizeValueType
+  GetNumberOfRemovedComponents(SideEnum side) const;
+  SizeValueType
+  GetNumberOfRemovedVoxels(SideEnum side) const;
+  ComponentSizeHistogramType
+  GetComponentSizeHistogram(SideEnum side) const;
+  SizeValueType
+  GetNumberOfModifiedVoxels() const;
+  SizeValueType
+  GetNumberOfUnrepairableVoxels() const;
+  itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
+  /** Most bytes the sweep held at once (planes, labellings, summaries, repairs, planes ready). */
+  itkGetConstMacro(PeakMemoryInBytes, SizeValueType);
+  /** Whether the statistics describe the whole image (every plane has been given out). */
+  itkGetConstMacro(Complete, bool);
+  /** @} */
+
+  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
+  using Superclass::MakeOutput;
+  DataObject::Pointer
+  MakeOutput(DataObjectPointerArraySizeType idx) override;
+
+protected:
+  SmallIsoComponentStreamingImageFilter();
+  ~SmallIsoComponentStreamingImageFilter() override;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+  void
+  VerifyPreconditions() const override;
+  /** Pieces are whole planes. */
+  void
+  EnlargeOutputRequestedRegion(DataObject * output) override;
+  /** The planes not seen yet, up to the window's reach beyond the piece. */
+  void
+  GenerateInputRequestedRegion() override;
+  void
+  GenerateData() override;
+
+private:
+  using SweepType = SmallIsoComponentDetail::StreamingSweep<OutputPixelType>;
+  struct ReadyPlane
+  {
+    uint64_t                     Plane;
+    std::vector<OutputPixelType> Values;
+    std::vector<MaskPixelType>   Mask;
+  };
+
+  /** The requested planes [first, end) of output 0. */
+  void
+  RequestedPlanes(uint64_t & first, uint64_t & end) const;
+  const SmallIsoComponentDetail::SideTally &
+  TallyOf(SideEnum side) const;
+  void
+  StartSweep();
+
+  double        m_IsoValue{ 0.0 };
+  SizeValueType m_MaximumComponentSize{ 20 };
+  double        m_MaximumComponentVolume{ 0.0 };
+  bool          m_UseMaximumComponentVolume{ false };
+  SideEnum      m_Side{ SideEnum::Both };
+  bool          m_FullyConnected{ false };
+  SizeValueType m_SlabThickness{ 8 };
+
+  std::unique_ptr<SweepType> m_Sweep;
+  ModifiedTimeType           m_SweepTime{ 0 };
+  uint64_t                   m_PlanesTaken{ 0 };
+  uint64_t                   m_PlanesGiven{ 0 };
+  uint64_t                   m_InputEnd{ 0 };
+  std::deque<ReadyPlane>     m_Ready;
+  SizeValueType              m_ReadyBytes{ 0 };
+  SizeValueType              m_EffectiveMaximumComponentSize{ 0 };
+  SizeValueType              m_PeakMemoryInBytes{ 0 };
+  bool                       m_Complete{ false };
+};
+} // end namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkSmallIsoComponentStreamingImageFilter.hxx"
+#endif
+
+#endif

@@ -1,0 +1,14 @@
+"""smalliso: removes the small specks and bubbles on either side of an isovalue from NumPy and
+Dask arrays, changing only the voxels that make them, so that an isosurface extracted afterwards
+has no tiny pieces.
+
+* ``smalliso.remove_small_components(array, isovalue, ...)``: a NumPy array, in memory.
+* ``smalliso.dask.remove_small_components(dask_array, isovalue, ...)``: a Dask array, chunk by
+  chunk, with the same result voxel for voxel (``python3 -m smalliso.dask`` filters Zarr arrays).
+"""
+
+from ._core import pixel_types
+from ._numpy import remove_small_components
+
+__version__ = "0.1.0"
+__all__ = ["pixel_types", "remove_small_components"]

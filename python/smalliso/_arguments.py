@@ -1,0 +1,115 @@
+"""Checks of the arguments shared by the NumPy and the Dask functions: each bad argument gives a
+TypeError or ValueError that says what was wrong and what was expected."""
+
+import math
+import operator
+
+import numpy as np
+
+from . import _core
+
+SIDES = ("above", "below", "both")
+# The largest K the C++ core takes (an unsigned 64-bit count of voxels).
+_MAX_SIZE_LIMIT = 2**64 - 1
+
+
+def check_dtype(dtype):
+    """The array's dtype, if the core supports it."""
+    dtype = np.dtype(dtype)
+    if dtype.name not in _core.pixel_types:
+        reason = ""
+        if dtype.kind in "iu" and dtype.itemsize == 8:
+            reason = " (a repaired voxel gets a mean taken in double precision, which cannot hold every 64-bit integer)"
+        raise TypeError(
+            f"dtype {dtype} is not supported{reason}; expected one of "
+            f"{', '.join(_core.pixel_types)} (convert with array.astype(...))")
+    if not dtype.isnative:
+        raise TypeError(
+            f"the array's dtype {dtype.str} is not in the machine's byte order; convert it with "
+            "array.astype(array.dtype.newbyteorder('='))")
+    return dtype
+
+
+def check_shape(shape):
+    """The shape of a 2-D or 3-D array with at least one voxel."""
+    shape = tuple(int(extent) for extent in shape)
+    if len(shape) not in (2, 3):
+        raise ValueError(f"the array is {len(shape)}-D (shape {shape}); expected a 2-D or 3-D array")
+    if 0 in shape:
+        raise ValueError(f"the array is empty (shape {shape}); it must have at least one voxel")
+    return shape
+
+
+def check_isovalue(isovalue):
+    try:
+        value = operator.index(isovalue) if isinstance(isovalue, (int, np.integer)) else float(isovalue)
+    except (TypeError, ValueError):
+        raise TypeError(f"isovalue must be a real number, not {isovalue!r}") from None
+    value = float(value)
+    if math.isnan(value):
+        raise ValueError("isovalue is NaN; it must be a number (every voxel is compared with it)")
+    return value
+
+
+def _whole_number(value, expected):
+    """``value`` as an int, or a TypeError saying what was ``expected``."""
+    if not isinstance(value, (bool, np.bool_)):
+        try:
+            return operator.index(value)
+        except TypeError:
+            pass
+    raise TypeError(f"{expected}, not {value!r}")
+
+
+def check_max_size(max_size):
+    size = _whole_number(max_size, "max_size must be a whole number of voxels")
+    if size < 0:
+        raise ValueError(f"max_size is {size}; it must be >= 0 (components of at most max_size voxels are removed)")
+    if size > _MAX_SIZE_LIMIT:
+        raise ValueError(f"max_size is {size}; it must be at most 2**64 - 1")
+    return size
+
+
+def check_side(side):
+    if not isinstance(side, str):
+        raise TypeError(f"side must be one of the strings 'above', 'below' or 'both', not {side!r}")
+    if side not in SIDES:
+        raise ValueError(f"side is {side!r}; expected 'above', 'below' or 'both'")
+    return side
+
+
+def check_max_volume(max_volume):
+    if max_volume is None:
+        return None
+    try:
+        volume = float(max_volume)
+    except (TypeError, ValueError):
+        raise TypeError(f"max_volume must be a number (a physical volume) or None, not {max_volume!r}") from None
+    if not volume >= 0.0:
+        raise ValueError(f"max_volume is {volume}; it must be a volume >= 0 in the spacing's units cubed")
+    return volume
+
+
+def check_spacing(spacing, ndim):
+    """The spacing as a list of floats in NumPy's axis order (empty when not given)."""
+    if spacing is None:
+        return []
+    try:
+        values = [float(value) for value in spacing]
+    except (TypeError, ValueError):
+        raise ValueError(f"spacing must be a sequence of {ndim} positive numbers, not {spacing!r}") from None
+    if len(values) != ndim or not all(math.isfinite(value) and value > 0.0 for value in values):
+        raise ValueError(
+            f"spacing is {spacing!r}; expected {ndim} positive finite numbers, one per axis in the array's axis order")
+    return values
+
+
+def check_threads(threads):
+    """The number of work units for the core (0 for ITK's default)."""
+    if threads is None:
+        return 0
+    count = _whole_number(threads, "threads must be a whole number >= 1 or None")
+    if not 1 <= count <= _core.max_threads:
+        raise ValueError(
+            f"threads is {count}; it must be between 1 and {_core.max_threads} (or None for ITK's default)")
+    return count

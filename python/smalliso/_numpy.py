@@ -1,0 +1,114 @@
+"""remove_small_components on NumPy arrays: the module's in-memory filter on the array's own
+buffer."""
+
+import numpy as np
+
+from . import _arguments, _core
+
+
+def remove_small_components(array, isovalue, max_size=20, side="both", fully_connected=False, *,
+                            max_volume=None, spacing=None, return_mask=False, return_stats=False,
+                            out=None, in_place=False, threads=None):
+    """Removes the connected components of at most ``max_size`` voxels on either side of
+    ``isovalue`` from a 2-D or 3-D array, changing only their voxels.
+
+    Every voxel is *above* (``value >= isovalue``) or *below* (all others, NaN included), as
+    Marching Cubes decides. Components of at most ``max_size`` voxels (K) are removed: each of
+    their voxels gets a value on the other side, the mean of the first other-side values met
+    walking from it along each axis (rounded half up for integers). Every other voxel keeps its
+    value bit for bit, so the isosurface of the result at ``isovalue`` is the input's without its
+    small pieces. This is ``itk::SmallIsoComponentImageFilter`` (see the project's README).
+
+    Parameters
+    ----------
+    array : array_like, 2-D or 3-D
+        dtype uint8, int8, uint16, int16, uint32, int32, float32 or float64 (``smalliso.pixel_types``).
+        A C-ordered array's last axis is ITK's x (shape (z, y, x) is an ITK image of size (x, y, z));
+        a Fortran-ordered array is used as it is, its first axis being x. Neither is copied. An array
+        that is neither C- nor Fortran-contiguous (a strided view) is copied into a C-ordered array
+        first, or refused with ``in_place=True``.
+    isovalue : float
+        Voxels ``>= isovalue`` are above it; NaN is an error.
+    max_size : int
+        K: components of at most K voxels are removed; 0 removes nothing.
+    side : {"above", "below", "both"}
+        "above" removes specks (small above components), "below" bubbles, "both" does "above" and
+        then "below" on its result.
+    fully_connected : bool
+        Connect voxels that share an edge or a corner too (8 / 26 neighbours), not only a face.
+    max_volume : float, optional
+        The threshold as a physical volume (the spacing's units cubed), used instead of
+        ``max_size``: K = floor(max_volume / voxel volume).
+    spacing : sequence of float, optional
+        The voxel spacing in the array's axis order (default 1 per axis); only ``max_volume`` uses it.
+    return_mask : bool
+        Also return the mask of the changed voxels (uint8, same shape and order: 0 kept, 1 removed
+        with an above component, 2 with a below component).
+    return_stats : bool
+        Also return the statistics: a dict with the names of ``SmallIsoComponentFilter --stats``:
+        ``above`` and ``below`` (each ``components``, ``removed_components``, ``removed_voxels``,
+        ``size_histogram`` as a dict size -> number of components), ``modified_voxels``,
+        ``unrepairable_voxels``, ``effective_max_size`` (K) and ``peak_extra_bytes``.
+    out : ndarray, optional
+        Where to put the result: same shape and dtype, C- or Fortran-contiguous. The input is copied
+        into it and filtered there.
+    in_place : bool
+        Filter ``array`` itself (a writable C- or Fortran-contiguous ndarray): no output buffer.
+    threads : int, optional
+        Threads (ITK work units) for the filter; default ITK's default (the number of cores).
+        The result does not depend on it. The GIL is released while the filter runs.
+
+    Returns
+    -------
+    ndarray, or a tuple
+        The filtered array (``out`` or ``array`` itself when given or in place, else a new array
+        with the input's memory order). With ``return_mask`` or ``return_stats``, a tuple
+        ``(filtered, mask, stats)`` holding only the parts asked for, in that order (as
+        ``numpy.unique`` does with its ``return_*`` flags).
+    """
+    isovalue = _arguments.check_isovalue(isovalue)
+    max_size = _arguments.check_max_size(max_size)
+    side = _arguments.check_side(side)
+    max_volume = _arguments.check_max_volume(max_volume)
+    work_units = _arguments.check_threads(threads)
+    if in_place and out is not None:
+        raise ValueError("give out or in_place=True, not both (out=array filters array in place)")
+    if in_place or out is array:
+        target = _writable_target(array, "array", "leave in_place off")
+    else:
+        array = np.asarray(array)
+        target = None
+    _arguments.check_dtype(array.dtype)
+    _arguments.check_shape(array.shape)
+    spacing = _arguments.check_spacing(spacing, array.ndim)
+    if out is not None and target is None:
+        target = _writable_target(out, "out", "give no out")
+        if out.shape != array.shape or out.dtype != array.dtype:
+            raise ValueError(f"out has shape {out.shape} and dtype {out.dtype}; expected the input's shape "
+                             f"{array.shape} and dtype {array.dtype}")
+        if np.may_share_memory(out, array):
+            raise ValueError("out overlaps the input array; give out=array (or in_place=True) to filter the "
+                             "array in place, or an out of its own")
+        np.copyto(out, array)
+    if target is None and not (array.flags.c_contiguous or array.flags.f_contiguous):
+        array = np.ascontiguousarray(array)
+    output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
+                                       side, bool(fully_connected), spacing, target is not None, work_units)
+    result = (target if target is not None else output,)
+    if return_mask:
+        result += (mask,)
+    if return_stats:
+        result += (stats,)
+    return result[0] if len(result) == 1 else result
+
+
+def _writable_target(array, name, remedy):
+    """``array`` if the filter can write its result into it."""
+    if not isinstance(array, np.ndarray):
+        raise TypeError(f"{name} must be a NumPy array to be written into, not {type(array).__name__}")
+    if not array.flags.writeable:
+        raise ValueError(f"{name} is read-only; the result is written into it (give a writable array, or {remedy})")
+    if not (array.flags.c_contiguous or array.flags.f_contiguous):
+        raise ValueError(f"{name} is neither C- nor Fortran-contiguous (a strided view) and the result is written "
+                         f"into it; filter a contiguous copy (numpy.ascontiguousarray) instead, or {remedy}")
+    return array

@@ -1,0 +1,191 @@
+"""python3 -m smalliso.dask: filters a Zarr array into a new one with Dask, chunk by chunk."""
+
+import argparse
+import contextlib
+import json
+import os
+import sys
+import tempfile
+import time
+
+import dask
+import zarr
+from dask.array.core import normalize_chunks
+
+import smalliso
+
+from ._zarr import remove_small_components_zarr
+
+TOOL = "smalliso.dask"
+LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
+
+
+class _Parser(argparse.ArgumentParser):
+    """Command-line errors in one line, exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{TOOL}: error: {message} (see --help)\n")
+
+
+def _chunk_sizes(text):
+    try:
+        sizes = tuple(int(size) for size in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a list of whole numbers such as 256 or 64,256,256")
+    if any(size < 1 for size in sizes):
+        raise argparse.ArgumentTypeError(f"{text!r}: chunk edges must be >= 1")
+    return sizes[0] if len(sizes) == 1 else sizes
+
+
+def _parser():
+    parser = _Parser(
+        prog=f"python3 -m {TOOL}",
+        description="Removes the small connected components on either side of an isovalue S from a 2-D or 3-D "
+                    "Zarr array (specks of voxels >= S, bubbles of voxels < S), chunk by chunk with Dask, and "
+                    "writes a new Zarr array with the same shape, chunks, dtype and compressor. The result is "
+                    "voxel for voxel that of SmallIsoComponentFilter on the whole array (C order: the last axis "
+                    "is x). The output appears only when complete: it is written into a temporary directory "
+                    "beside it and renamed into place.")
+    parser.add_argument("input", metavar="IN.zarr", help="the Zarr array to filter (a directory store)")
+    parser.add_argument("output", metavar="OUT.zarr", help="where to write the filtered array (replaced if it exists)")
+    parser.add_argument("--isovalue", metavar="S", type=float, required=True,
+                        help="voxels with a value >= S are above it, all others (NaN included) below; required")
+    parser.add_argument("--max-size", metavar="K", type=int, default=20,
+                        help="components of at most K voxels are removed; 0 removes nothing (default 20)")
+    parser.add_argument("--side", choices=("above", "below", "both"), default="both",
+                        help="above removes specks, below bubbles, both does above and then below on its result "
+                             "(default both)")
+    parser.add_argument("--fully-connected", action="store_true",
+                        help="connect voxels that share an edge or a corner too (26 neighbours in 3-D, 8 in 2-D), "
+                             "not only a face")
+    parser.add_argument("--removed-mask", metavar="MASK.zarr",
+                        help="also write the mask of the changed voxels (uint8: 0 kept, 1 removed with an above "
+                             "component, 2 with a below component)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default="threads",
+                        help="threads, processes or synchronous (Dask's local schedulers), or the address of a "
+                             "dask.distributed scheduler such as tcp://host:8786 (default threads)")
+    parser.add_argument("--chunks", metavar="N[,N...]", type=_chunk_sizes,
+                        help="the tasks' chunks, one edge for every axis or one per axis (NumPy order): whole "
+                             "multiples of the input's stored chunks (default the stored chunks); each task reads "
+                             "every stored chunk its chunk and halo overlap, so larger tasks read less twice")
+    parser.add_argument("--threads", metavar="N", type=int, default=1,
+                        help="threads of each task's C++ code (default 1: Dask runs the tasks in parallel)")
+    parser.add_argument("--stats", metavar="FILE.json",
+                        help="write the input's description, the parameters and every statistic as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
+    return parser
+
+
+def _statistics_json(arguments, info, stats, seconds, total_seconds):
+    def side(counts):
+        return {"components": counts["components"], "removed_components": counts["removed_components"],
+                "removed_voxels": counts["removed_voxels"],
+                "size_histogram": [[size, number] for size, number in sorted(counts["size_histogram"].items())]}
+
+    return {
+        "tool": TOOL,
+        "version": smalliso.__version__,
+        "input": {"path": arguments.input, "pixel_type": info["dtype"], "dimension": len(info["shape"]),
+                  "size": list(reversed(info["shape"])), "chunks": list(reversed(info["chunks"]))},
+        "outputs": {"image": arguments.output, "removed_mask": arguments.removed_mask, "stats": arguments.stats},
+        "parameters": {"isovalue": arguments.isovalue, "max_size": arguments.max_size,
+                       "effective_max_size": stats["effective_max_size"], "side": arguments.side,
+                       "connectivity": "full" if arguments.fully_connected else "face",
+                       "scheduler": arguments.scheduler, "threads": arguments.threads,
+                       "chunks": list(reversed(info["task_chunks"]))},
+        "statistics": {"above": side(stats["above"]), "below": side(stats["below"]),
+                       "modified_voxels": stats["modified_voxels"],
+                       "unrepairable_voxels": stats["unrepairable_voxels"],
+                       "seconds": seconds, "total_seconds": total_seconds},
+    }
+
+
+def _summary(arguments, stats, seconds):
+    above, below = stats["above"], stats["below"]
+    return (f"Isovalue {arguments.isovalue:g}, K = {stats['effective_max_size']} voxels, side {arguments.side}, "
+            f"{'full' if arguments.fully_connected else 'face'} connectivity: removed "
+            f"{above['removed_components']} of {above['components']} above components ({above['removed_voxels']} "
+            f"voxels) and {below['removed_components']} of {below['components']} below components "
+            f"({below['removed_voxels']} voxels); {stats['modified_voxels']} voxels modified, "
+            f"{stats['unrepairable_voxels']} unrepairable. Filter {seconds:.3f} s ({arguments.scheduler}).")
+
+
+def _json_text(value, indent=""):
+    """JSON laid out as the command-line tool writes it: objects one key a line, lists of numbers
+    on one line, lists of lists one inner list a line."""
+    inner = indent + "  "
+    if isinstance(value, dict):
+        items = [f"{inner}{json.dumps(key)}: {_json_text(item, inner)}" for key, item in value.items()]
+        return "{\n" + ",\n".join(items) + f"\n{indent}}}" if items else "{}"
+    if isinstance(value, list) and any(isinstance(item, (dict, list)) for item in value):
+        return "[\n" + ",\n".join(inner + _json_text(item, inner) for item in value) + f"\n{indent}]"
+    if isinstance(value, list):
+        return "[" + ", ".join(json.dumps(item) for item in value) + "]"
+    return json.dumps(value)
+
+
+def _write_json_atomically(path, document):
+    directory = os.path.dirname(os.path.abspath(path))
+    handle, staging = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".partial", dir=directory)
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(staging, 0o666 & ~umask)
+        with os.fdopen(handle, "w") as stream:
+            stream.write(_json_text(document) + "\n")
+        os.replace(staging, path)
+    except BaseException:
+        os.unlink(staging)
+        raise
+
+
+@contextlib.contextmanager
+def _scheduler(name):
+    """None while one of Dask's local schedulers is the scheduler, or a client of a cluster."""
+    if name in LOCAL_SCHEDULERS:
+        with dask.config.set(scheduler=name):
+            yield None
+    else:
+        from distributed import Client
+        try:
+            client = Client(name, timeout="10s")
+        except OSError as error:
+            raise ValueError(f"cannot reach a dask.distributed scheduler at --scheduler {name!r} ({error})") from None
+        with client:
+            yield client
+
+
+def main(argv=None):
+    start = time.perf_counter()
+    arguments = _parser().parse_args(argv)
+    if arguments.stats is not None and not os.path.isdir(os.path.dirname(os.path.abspath(arguments.stats))):
+        print(f"{TOOL}: error: cannot write --stats {arguments.stats!r}: its directory does not exist", file=sys.stderr)
+        return 2
+    try:
+        with _scheduler(arguments.scheduler) as client:
+            begin = time.perf_counter()
+            stats = remove_small_components_zarr(
+                arguments.input, arguments.output, arguments.isovalue, arguments.max_size, arguments.side,
+                arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
+                progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
+            seconds = time.perf_counter() - begin
+        stored = zarr.open_array(arguments.input, mode="r")
+        info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
+                "task_chunks": [extents[0] for extents in normalize_chunks(
+                    stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
+        if arguments.stats is not None:
+            _write_json_atomically(arguments.stats,
+                                   _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start))
+        if not arguments.quiet:
+            print(_summary(arguments, stats, seconds))
+    except (TypeError, ValueError) as error:
+        print(f"{TOOL}: error: {error}", file=sys.stderr)
+        return 2
+    except Exception as error:
+        print(f"{TOOL}: failed: {type(error).__name__}: {error}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

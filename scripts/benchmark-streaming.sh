@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Measures the streaming mode on a synthetic volume of at least 2^31 voxels written to disk: the
+# filter in memory, and streamed under memory limits of 1 GiB and 256 MiB, each timed with its
+# read, filter and write split, peak resident memory (as the process measured it) and page faults;
+# and the in-memory filter's time per voxel on 16 M voxels of the same kind, for the throughput
+# target (streamed filtering within twice that per voxel, plus reading and writing the file once).
+#
+#   scripts/benchmark-streaming.sh DIR [NX NY NZ]    (default 2048 1024 1024: 2 GiB of uint8)
+#
+# DIR receives the volumes and outputs (about 3 times the volume). Uses the tools in
+# $SMALLISO_BUILD_DIR (default ./build; run scripts/setup.sh first). Run it on a quiet machine.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${SMALLISO_BUILD_DIR:-$root/build}
+dir=${1:?usage: scripts/benchmark-streaming.sh DIR [NX NY NZ]}
+nx=${2:-2048}
+ny=${3:-1024}
+nz=${4:-1024}
+filter=$build/apps/SmallIsoComponentFilter
+generate=$build/benchmark/SmallIsoComponentLargeVolume
+mkdir -p "$dir"
+[[ -x $filter && -x $generate ]] || { echo "benchmark-streaming: build the project first (scripts/setup.sh)" >&2; exit 2; }
+
+volume=$dir/large.mhd
+small=$dir/small-16M.mhd
+[[ -f $volume ]] || "$generate" "$volume" "$nx" "$ny" "$nz"
+[[ -f $small ]] || "$generate" "$small" 256 256 256
+
+# run NAME INPUT OUTPUT [OPTIONS...]: one run of the filter, its JSON in DIR/NAME.json, its
+# /usr/bin/time record in DIR/NAME.time.
+run() {
+  local name=$1 input=$2 output=$3
+  shift 3
+  rm -f "$output" "${output%.*}.raw"
+  sync
+  /usr/bin/time -v -o "$dir/$name.time" "$filter" "$input" "$output" --isovalue 127.5 --max-size 20 \
+    --no-compression --quiet --stats "$dir/$name.json" "$@"
+}
+run small-in-memory "$small" "$dir/small-out.mhd"
+run in-memory "$volume" "$dir/out-memory.mhd"
+run streamed-1G "$volume" "$dir/out-1G.mhd" --memory-limit 1G
+run streamed-256M "$volume" "$dir/out-256M.mhd" --memory-limit 256M
+cmp "$dir/out-memory.raw" "$dir/out-1G.raw" && cmp "$dir/out-memory.raw" "$dir/out-256M.raw" &&
+  echo "benchmark-streaming: the streamed outputs equal the in-memory output byte for byte"
+
+python3 - "$dir" <<'PY'
+import json, re, sys
+dir = sys.argv[1]
+def load(name):
+    stats = json.load(open(f"{dir}/{name}.json"))["statistics"]
+    timing = open(f"{dir}/{name}.time").read()
+    def field(label):
+        return float(re.search(re.escape(label) + r": ([0-9.:]+)", timing).group(1).split(":")[-1])
+    wall = re.search(r"Elapsed \(wall clock\) time.*: (.*)", timing).group(1)
+    parts = [float(p) for p in wall.split(":")]
+    stats["wall"] = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
+    stats["faults"] = int(field("Minor (reclaiming a frame) page faults"))
+    stats["system"] = field("System time (seconds)")
+    return stats
+small = load("small-in-memory")
+voxels = json.load(open(f"{dir}/in-memory.json"))["input"]["size"]
+n = voxels[0] * voxels[1] * voxels[2]
+per_voxel = small["seconds"] / (256 ** 3)
+print(f"{n} voxels; in-memory filter on 16 M voxels: {per_voxel * 1e9:.2f} ns per voxel")
+print("| run | wall s | read s | filter s | write s | peak resident MiB | limit MiB | slab planes | minor faults | system s | filter / (2 x per-voxel x N) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+for name in ("in-memory", "streamed-1G", "streamed-256M"):
+    s = load(name)
+    limit = s["memory_limit_bytes"] >> 20 if s["memory_limit_bytes"] else "-"
+    ratio = s["seconds"] / (2 * per_voxel * n)
+    print(f"| {name} | {s['wall']:.1f} | {s.get('read_seconds', 0):.1f} | {s['seconds']:.1f} | "
+          f"{s.get('write_seconds', 0):.1f} | {s['peak_resident_bytes'] >> 20} | {limit} | {s.get('slab_planes', '-')} | "
+          f"{s['faults']} | {s['system']:.1f} | {ratio:.2f} |")
+PY

@@ -1,0 +1,836 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkSmallIsoComponentBlockSummary.h"
+#include "itkMacro.h"
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+uint64_t
+ComponentRules::MaximumSizeForVolume(double volume, double voxelVolume)
+{
+  const double voxels = volume / voxelVolume * (1.0 + 1e-12);
+  return voxels >= static_cast<double>(std::numeric_limits<uint64_t>::max())
+           ? std::numeric_limits<uint64_t>::max()
+           : static_cast<uint64_t>(std::floor(voxels));
+}
+
+void
+SideTally::Add(uint64_t size, bool removed)
+{
+  ++m_Components;
+  if (removed)
+  {
+    ++m_RemovedComponents;
+    m_RemovedVoxels += size;
+  }
+  if (size < SmallSizes)
+  {
+    if (m_Small.empty())
+    {
+      m_Small.assign(SmallSizes, 0);
+    }
+    ++m_Small[size];
+  }
+  else
+  {
+    ++m_Large[size];
+  }
+}
+
+void
+SideTally::Add(const SideTally & other)
+{
+  m_Components += other.m_Components;
+  m_RemovedComponents += other.m_RemovedComponents;
+  m_RemovedVoxels += other.m_RemovedVoxels;
+  if (!other.m_Small.empty())
+  {
+    if (m_Small.empty())
+    {
+      m_Small.assign(SmallSizes, 0);
+    }
+    for (uint64_t size = 0; size < SmallSizes; ++size)
+    {
+      m_Small[size] += other.m_Small[size];
+    }
+  }
+  for (const auto & entry : other.m_Large)
+  {
+    m_Large[entry.first] += entry.second;
+  }
+}
+
+std::map<uint64_t, uint64_t>
+SideTally::GetHistogram() const
+{
+  std::map<uint64_t, uint64_t> histogram = m_Large;
+  for (uint64_t size = 0; size < m_Small.size(); ++size)
+  {
+    if (m_Small[size] > 0)
+    {
+      histogram[size] += m_Small[size];
+    }
+  }
+  return histogram;
+}
+
+void
+ComponentTally::Add(const ComponentTally & other)
+{
+  Above.Add(other.Above);
+  Below.Add(other.Below);
+  ModifiedVoxels += other.ModifiedVoxels;
+  UnrepairableVoxels += other.UnrepairableVoxels;
+}
+
+namespace
+{
+using NodeType = BlockSummary::NodeType;
+
+template <typename T>
+std::vector<T>
+Concatenate(std::vector<T> a, const std::vector<T> & b)
+{
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+/** Union-find over nodes: path halving, the smaller root under... any root (the result never
+ * depends on which root a group gets). */
+NodeType
+Find(std::vector<NodeType> & parent, NodeType node)
+{
+  while (parent[node] != node)
+  {
+    parent[node] = parent[parent[node]];
+    node = parent[node];
+  }
+  return node;
+}
+} // namespace
+
+BlockSummary::BlockSummary(const IndexType &      imageSize,
+                           const IndexType &      begin,
+                           const IndexType &      end,
+                           const ComponentRules & rules)
+  : m_ImageSize(imageSize)
+  , m_Begin(begin)
+  , m_End(end)
+  , m_Rules(rules)
+{
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    if (!(begin[axis] < end[axis] && end[axis] <= imageSize[axis]))
+    {
+      itkGenericExceptionMacro("BlockSummary: the box [" << begin[axis] << ", " << end[axis] << ") along axis " << axis
+                                                         << " is empty or outside the image of " << imageSize[axis]
+                                                         << " voxels");
+    }
+  }
+}
+
+auto
+BlockSummary::AddComponent(bool above, uint64_t size) -> NodeType
+{
+  if (m_Size.size() >= NoNode)
+  {
+    itkGenericExceptionMacro("BlockSummary: a box holds at most " << NoNode - 1 << " components");
+  }
+  m_Size.push_back(size);
+  m_Above.push_back(above ? 1 : 0);
+  m_Flipped.push_back(0);
+  return static_cast<NodeType>(m_Size.size() - 1);
+}
+
+bool
+BlockSummary::HasFace(unsigned int axis, bool upper) const
+{
+  return upper ? m_End[axis] < m_ImageSize[axis] : m_Begin[axis] > 0;
+}
+
+std::array<unsigned int, 2>
+BlockSummary::FaceAxes(unsigned int axis)
+{
+  return axis == 0 ? std::array<unsigned int, 2>{ 1, 2 }
+                   : (axis == 1 ? std::array<unsigned int, 2>{ 0, 2 } : std::array<unsigned int, 2>{ 0, 1 });
+}
+
+SizeValueType
+BlockSummary::FaceLayerSize(unsigned int axis) const
+{
+  const auto axes = FaceAxes(axis);
+  return this->Extent(axes[0]) * this->Extent(axes[1]);
+}
+
+void
+BlockSummary::SetFaceLayer(unsigned int axis, bool upper, std::vector<NodeType> layer)
+{
+  if (!this->HasFace(axis, upper) || layer.size() != this->FaceLayerSize(axis))
+  {
+    itkGenericExceptionMacro("BlockSummary: a face layer of axis " << axis << " needs " << this->FaceLayerSize(axis)
+                                                                   << " entries and a face inside the image");
+  }
+  m_Face[FaceIndex(axis, upper)] = std::move(layer);
+}
+
+bool
+BlockSummary::NeedsTouching(uint64_t aboveSize) const
+{
+  return m_Rules.Side == SmallIsoComponentEnums::Side::Both && m_Rules.AnyBelow &&
+         aboveSize <= m_Rules.MaximumComponentSize;
+}
+
+void
+BlockSummary::AddTouching(NodeType above, NodeType below)
+{
+  m_Touching.emplace_back(above, below);
+}
+
+void
+BlockSummary::Settle(std::vector<Resolution> * resolutions)
+{
+  std::vector<NodeType> parent(m_Size.size());
+  for (NodeType node = 0; node < parent.size(); ++node)
+  {
+    parent[node] = node;
+  }
+  std::vector<std::pair<NodeType, NodeType>> touching;
+  touching.swap(m_Touching);
+  this->SettleNodes(parent, touching, resolutions);
+}
+
+void
+BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
+                          std::vector<std::pair<NodeType, NodeType>> & touching,
+                          std::vector<Resolution> *                    resolutions)
+{
+  using SideEnum = SmallIsoComponentEnums::Side;
+  const SizeValueType nodes = parent.size();
+  const uint64_t      K = m_Rules.MaximumComponentSize;
+  const bool          both = m_Rules.Side == SideEnum::Both;
+  const bool          aboveProcessed = m_Rules.Side != SideEnum::Below;
+  const bool          belowProcessed = m_Rules.Side != SideEnum::Above;
+
+  std::vector<uint8_t> wasAbove(m_Above.begin(), m_Above.end());
+  const auto           markOpen = [&](std::vector<uint8_t> & open) {
+    open.assign(nodes, 0);
+    for (const auto & layer : m_Face)
+    {
+      NodeType previous = NoNode;
+      for (const NodeType node : layer)
+      {
+        if (node != previous)
+        {
+          open[Find(parent, node)] = 1;
+          previous = node;
+        }
+      }
+    }
+  };
+  std::vector<uint8_t> open;
+  markOpen(open);
+
+  // The above pass: complete above components are final; open ones may still grow.
+  std::vector<State>    aboveState(nodes, State::NotAbove);
+  std::vector<NodeType> flipped;
+  for (NodeType node = 0; node < nodes; ++node)
+  {
+    if (parent[node] != node || !m_Above[node])
+    {
+      continue;
+    }
+    const uint64_t size = m_Size[node];
+    const bool     small = aboveProcessed && size <= K;
+    if (open[node])
+    {
+      aboveState[node] = small && m_Rules.AnyBelow ? State::Open : State::Kept;
+      continue;
+    }
+    const bool removed = small && m_Rules.AnyBelow;
+    m_Tally.Above.Add(size, removed);
+    aboveState[node] = removed ? State::Removed : State::Kept;
+    if (removed)
+    {
+      m_Tally.ModifiedVoxels += size;
+      if (both)
+      {
+        // As the below pass sees it, the component is below now.
+        m_Above[node] = 0;
+        m_Flipped[node] = size;
+        flipped.push_back(node);
+      }
+    }
+    else if (small)
+    {
+      m_Tally.UnrepairableVoxels += size;
+    }
+  }
+
+  // A removed above component joins the below components it touches.
+  const auto join = [&](NodeType a, NodeType b) {
+    a = Find(parent, a);
+    b = Find(parent, b);
+    if (a != b)
+    {
+      if (b < a)
+      {
+        std::swap(a, b);
+      }
+      parent[b] = a;
+      m_Size[a] += m_Size[b];
+      m_Flipped[a] += m_Flipped[b];
+    }
+  };
+  if (!flipped.empty())
+  {
+    std::vector<std::pair<NodeType, NodeType>> joins;
+    for (const auto & pair : touching)
+    {
+      const NodeType above = Find(parent, pair.first);
+      if (aboveState[above] == State::Removed)
+      {
+        joins.emplace_back(above, pair.second);
+      }
+    }
+    for (const auto & pair : joins)
+    {
+      join(pair.first, pair.second);
+    }
+  }
+
+  // The below pass: a below component (with the removed above ones joined to it) is final when
+  // it is complete and no above component that may still be removed touches it.
+  if (!flipped.empty())
+  {
+    markOpen(open);
+  }
+  std::vector<uint8_t> blocked(nodes, 0);
+  for (const auto & pair : touching)
+  {
+    const NodeType above = Find(parent, pair.first);
+    if (m_Above[above] && aboveState[above] == State::Open)
+    {
+      blocked[Find(parent, pair.second)] = 1;
+    }
+  }
+  std::vector<State> belowState(nodes, State::Open);
+  for (NodeType node = 0; node < nodes; ++node)
+  {
+    if (parent[node] != node || m_Above[node])
+    {
+      continue;
+    }
+    const uint64_t size = m_Size[node];
+    const bool     small = belowProcessed && size <= K;
+    if (open[node] || blocked[node])
+    {
+      belowState[node] = small && m_Rules.AnyAbove ? State::Open : State::Kept;
+      continue;
+    }
+    const bool removed = small && m_Rules.AnyAbove;
+    m_Tally.Below.Add(size, removed);
+    belowState[node] = removed ? State::Removed : State::Kept;
+    if (removed)
+    {
+      m_Tally.ModifiedVoxels += size - m_Flipped[node];
+    }
+    else if (small)
+    {
+      m_Tally.UnrepairableVoxels += size;
+    }
+  }
+
+  // What stays: open above components, and below components that are open or waiting.
+  std::vector<NodeType> newNode(nodes, NoNode);
+  std::vector<uint64_t> size;
+  std::vector<uint8_t>  above;
+  std::vector<uint64_t> flippedVoxels;
+  for (NodeType node = 0; node < nodes; ++node)
+  {
+    if (parent[node] != node)
+    {
+      continue;
+    }
+    const bool stays = m_Above[node] ? open[node] != 0 : (open[node] != 0 || blocked[node] != 0);
+    if (stays)
+    {
+      newNode[node] = static_cast<NodeType>(size.size());
+      size.push_back(m_Size[node]);
+      above.push_back(m_Above[node]);
+      flippedVoxels.push_back(m_Flipped[node]);
+    }
+  }
+  for (auto & layer : m_Face)
+  {
+    for (NodeType & node : layer)
+    {
+      node = newNode[Find(parent, node)];
+    }
+  }
+  std::vector<std::pair<NodeType, NodeType>> keptTouching;
+  for (const auto & pair : touching)
+  {
+    const NodeType a = Find(parent, pair.first);
+    if (m_Above[a] && aboveState[a] == State::Open)
+    {
+      keptTouching.emplace_back(newNode[a], newNode[Find(parent, pair.second)]);
+    }
+  }
+  std::sort(keptTouching.begin(), keptTouching.end());
+  keptTouching.erase(std::unique(keptTouching.begin(), keptTouching.end()), keptTouching.end());
+
+  if (resolutions != nullptr)
+  {
+    resolutions->resize(nodes);
+    for (NodeType node = 0; node < nodes; ++node)
+    {
+      const NodeType root = Find(parent, node);
+      Resolution &   resolution = (*resolutions)[node];
+      if (wasAbove[node])
+      {
+        // The above component's root before any join into a below component.
+        const NodeType aboveRoot = m_Above[root] ? root : NoNode;
+        if (aboveRoot != NoNode)
+        {
+          resolution.AbovePass = aboveState[root];
+          resolution.BelowPass = State::Kept;
+          resolution.Node = aboveState[root] == State::Open ? newNode[root] : NoNode;
+          continue;
+        }
+        resolution.AbovePass = State::Removed;
+      }
+      else
+      {
+        resolution.AbovePass = State::NotAbove;
+      }
+      resolution.BelowPass = belowState[root];
+      resolution.Node = belowState[root] == State::Open ? newNode[root] : NoNode;
+    }
+  }
+
+  m_Size.swap(size);
+  m_Above.swap(above);
+  m_Flipped.swap(flippedVoxels);
+  m_Touching.swap(keptTouching);
+}
+
+BlockSummary
+BlockSummary::Merge(const BlockSummary &      lower,
+                    const BlockSummary &      upper,
+                    std::vector<Resolution> * lowerResolutions,
+                    std::vector<Resolution> * upperResolutions)
+{
+  if (lower.m_ImageSize != upper.m_ImageSize)
+  {
+    itkGenericExceptionMacro("BlockSummary::Merge: the two boxes belong to images of different sizes");
+  }
+  unsigned int axis = 3;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    if (lower.m_End[a] == upper.m_Begin[a] && lower.m_Begin[a] < upper.m_Begin[a])
+    {
+      bool othersMatch = true;
+      for (unsigned int b = 0; b < 3; ++b)
+      {
+        othersMatch =
+          othersMatch && (b == a || (lower.m_Begin[b] == upper.m_Begin[b] && lower.m_End[b] == upper.m_End[b]));
+      }
+      if (othersMatch)
+      {
+        axis = a;
+      }
+    }
+  }
+  if (axis == 3)
+  {
+    itkGenericExceptionMacro("BlockSummary::Merge: the upper box does not start where the lower one ends along one "
+                             "axis with the same range along the others");
+  }
+
+  BlockSummary merged;
+  merged.m_ImageSize = lower.m_ImageSize;
+  merged.m_Begin = lower.m_Begin;
+  merged.m_End = upper.m_End;
+  merged.m_Rules = lower.m_Rules;
+  merged.m_Tally = lower.m_Tally;
+  merged.m_Tally.Add(upper.m_Tally);
+  const auto offset = static_cast<NodeType>(lower.m_Size.size());
+  if (SizeValueType{ offset } + upper.m_Size.size() >= NoNode)
+  {
+    itkGenericExceptionMacro("BlockSummary::Merge: the merged boxes hold too many open components");
+  }
+  merged.m_Size = Concatenate(lower.m_Size, upper.m_Size);
+  merged.m_Above = Concatenate(lower.m_Above, upper.m_Above);
+  merged.m_Flipped = Concatenate(lower.m_Flipped, upper.m_Flipped);
+  const SizeValueType   nodes = merged.m_Size.size();
+  std::vector<NodeType> parent(nodes);
+  for (NodeType node = 0; node < nodes; ++node)
+  {
+    parent[node] = node;
+  }
+  std::vector<std::pair<NodeType, NodeType>> touching = lower.m_Touching;
+  for (const auto & pair : upper.m_Touching)
+  {
+    touching.emplace_back(pair.first + offset, pair.second + offset);
+  }
+
+  // The faces of the union: along the merge axis the outer faces of the two boxes, along the
+  // others the two layers side by side.
+  const auto upperLayer = [offset](std::vector<NodeType> layer) {
+    for (NodeType & node : layer)
+    {
+      node += offset;
+    }
+    return layer;
+  };
+  merged.m_Face[FaceIndex(axis, false)] = lower.m_Face[FaceIndex(axis, false)];
+  merged.m_Face[FaceIndex(axis, true)] = upperLayer(upper.m_Face[FaceIndex(axis, true)]);
+  for (unsigned int b = 0; b < 3; ++b)
+  {
+    if (b == axis)
+    {
+      continue;
+    }
+    const auto faceAxes = FaceAxes(b);
+    for (const bool side : { false, true })
+    {
+      const auto & low = lower.m_Face[FaceIndex(b, side)];
+      if (low.empty())
+      {
+        continue;
+      }
+      const auto            high = upperLayer(upper.m_Face[FaceIndex(b, side)]);
+      std::vector<NodeType> layer;
+      layer.reserve(low.size() + high.size());
+      if (faceAxes[1] == axis)
+      {
+        layer = Concatenate(low, high);
+      }
+      else
+      {
+        // The merge axis is the layer's faster axis: rows side by side.
+        const SizeValueType lowRow = lower.Extent(axis);
+        const SizeValueType highRow = upper.Extent(axis);
+        const SizeValueType rows = lower.Extent(faceAxes[1]);
+        for (SizeValueType row = 0; row < rows; ++row)
+        {
+          layer.insert(layer.end(), low.begin() + row * lowRow, low.begin() + (row + 1) * lowRow);
+          layer.insert(layer.end(), high.begin() + row * highRow, high.begin() + (row + 1) * highRow);
+        }
+      }
+      merged.m_Face[FaceIndex(b, side)] = std::move(layer);
+    }
+  }
+
+  // Join the components that touch across the shared face; note which above components that
+  // may be small touch which below ones there.
+  const auto & lowFace = lower.m_Face[FaceIndex(axis, true)];
+  const auto & highFace = upper.m_Face[FaceIndex(axis, false)];
+  const auto   faceAxes = FaceAxes(axis);
+  const auto   width = static_cast<int64_t>(lower.Extent(faceAxes[0]));
+  const auto   height = static_cast<int64_t>(lower.Extent(faceAxes[1]));
+  const int    reach = merged.m_Rules.FullyConnected ? 1 : 0;
+  NodeType     lastA = NoNode;
+  NodeType     lastB = NoNode;
+  const auto   link = [&](NodeType a, NodeType b) {
+    if (a == lastA && b == lastB)
+    {
+      return;
+    }
+    lastA = a;
+    lastB = b;
+    if (merged.m_Above[a] == merged.m_Above[b])
+    {
+      NodeType ra = Find(parent, a);
+      NodeType rb = Find(parent, b);
+      if (ra != rb)
+      {
+        if (rb < ra)
+        {
+          std::swap(ra, rb);
+        }
+        parent[rb] = ra;
+        merged.m_Size[ra] += merged.m_Size[rb];
+        merged.m_Flipped[ra] += merged.m_Flipped[rb];
+      }
+    }
+    else
+    {
+      const NodeType above = merged.m_Above[a] ? a : b;
+      const NodeType below = merged.m_Above[a] ? b : a;
+      if (merged.NeedsTouching(merged.m_Size[above]))
+      {
+        touching.emplace_back(above, below);
+      }
+    }
+  };
+  for (int64_t j = 0; j < height; ++j)
+  {
+    for (int64_t i = 0; i < width; ++i)
+    {
+      const NodeType a = lowFace[i + width * j];
+      for (int64_t dj = -reach; dj <= reach; ++dj)
+      {
+        const int64_t jj = j + dj;
+        if (jj < 0 || jj >= height)
+        {
+          continue;
+        }
+        for (int64_t di = -reach; di <= reach; ++di)
+        {
+          const int64_t ii = i + di;
+          if (ii >= 0 && ii < width)
+          {
+            link(a, highFace[ii + width * jj] + offset);
+          }
+        }
+      }
+    }
+  }
+
+  std::vector<Resolution> resolutions;
+  merged.SettleNodes(
+    parent, touching, lowerResolutions != nullptr || upperResolutions != nullptr ? &resolutions : nullptr);
+  if (lowerResolutions != nullptr)
+  {
+    lowerResolutions->assign(resolutions.begin(), resolutions.begin() + offset);
+  }
+  if (upperResolutions != nullptr)
+  {
+    upperResolutions->assign(resolutions.begin() + offset, resolutions.end());
+  }
+  return merged;
+}
+
+namespace
+{
+/** Native byte order: summaries move between processes of one kind of machine. */
+class Writer
+{
+public:
+  template <typename T>
+  void
+  Put(const T & value)
+  {
+    const auto * bytes = reinterpret_cast<const uint8_t *>(&value);
+    m_Data.insert(m_Data.end(), bytes, bytes + sizeof(T));
+  }
+  template <typename T>
+  void
+  PutVector(const std::vector<T> & values)
+  {
+    this->Put<uint64_t>(values.size());
+    const auto * bytes = reinterpret_cast<const uint8_t *>(values.data());
+    m_Data.insert(m_Data.end(), bytes, bytes + values.size() * sizeof(T));
+  }
+  std::vector<uint8_t> &
+  Data()
+  {
+    return m_Data;
+  }
+
+private:
+  std::vector<uint8_t> m_Data;
+};
+
+class Reader
+{
+public:
+  Reader(const uint8_t * data, SizeValueType bytes)
+    : m_Data(data)
+    , m_Bytes(bytes)
+  {}
+  template <typename T>
+  T
+  Get()
+  {
+    this->Need(sizeof(T));
+    T value;
+    std::memcpy(&value, m_Data + m_Position, sizeof(T));
+    m_Position += sizeof(T);
+    return value;
+  }
+  template <typename T>
+  std::vector<T>
+  GetVector()
+  {
+    const auto     count = this->Get<uint64_t>();
+    std::vector<T> values;
+    if (count > (m_Bytes - m_Position) / sizeof(T))
+    {
+      this->Fail();
+    }
+    values.resize(count);
+    std::memcpy(static_cast<void *>(values.data()), m_Data + m_Position, count * sizeof(T));
+    m_Position += count * sizeof(T);
+    return values;
+  }
+  bool
+  AtEnd() const
+  {
+    return m_Position == m_Bytes;
+  }
+
+private:
+  void
+  Need(SizeValueType bytes) const
+  {
+    if (bytes > m_Bytes - m_Position)
+    {
+      this->Fail();
+    }
+  }
+  [[noreturn]] void
+  Fail() const
+  {
+    itkGenericExceptionMacro("BlockSummary::Deserialize: the data is truncated or not a block summary");
+  }
+  const uint8_t * m_Data;
+  SizeValueType   m_Bytes;
+  SizeValueType   m_Position{ 0 };
+};
+
+constexpr uint32_t SummaryMagic = 0x31424953; // "SIB1"
+
+void
+PutTally(Writer & writer, const SideTally & tally, const std::vector<std::pair<uint64_t, uint64_t>> & histogram)
+{
+  writer.Put(tally.GetComponents());
+  writer.Put(tally.GetRemovedComponents());
+  writer.Put(tally.GetRemovedVoxels());
+  writer.PutVector(histogram);
+}
+} // namespace
+
+std::vector<uint8_t>
+BlockSummary::Serialize() const
+{
+  Writer writer;
+  writer.Put(SummaryMagic);
+  for (const auto * index : { &m_ImageSize, &m_Begin, &m_End })
+  {
+    for (const uint64_t value : *index)
+    {
+      writer.Put(value);
+    }
+  }
+  writer.Put(m_Rules.MaximumComponentSize);
+  writer.Put(static_cast<uint8_t>(m_Rules.Side));
+  writer.Put(static_cast<uint8_t>(m_Rules.FullyConnected));
+  writer.Put(static_cast<uint8_t>(m_Rules.AnyAbove));
+  writer.Put(static_cast<uint8_t>(m_Rules.AnyBelow));
+  writer.PutVector(m_Size);
+  writer.PutVector(m_Above);
+  writer.PutVector(m_Flipped);
+  for (const auto & layer : m_Face)
+  {
+    writer.PutVector(layer);
+  }
+  writer.PutVector(m_Touching);
+  for (const SideTally * tally : { &m_Tally.Above, &m_Tally.Below })
+  {
+    const auto                                 map = tally->GetHistogram();
+    std::vector<std::pair<uint64_t, uint64_t>> histogram(map.begin(), map.end());
+    PutTally(writer, *tally, histogram);
+  }
+  writer.Put(m_Tally.ModifiedVoxels);
+  writer.Put(m_Tally.UnrepairableVoxels);
+  return std::move(writer.Data());
+}
+
+BlockSummary
+BlockSummary::Deserialize(const uint8_t * data, SizeValueType bytes)
+{
+  Reader reader(data, bytes);
+  if (reader.Get<uint32_t>() != SummaryMagic)
+  {
+    itkGenericExceptionMacro("BlockSummary::Deserialize: the data is not a block summary");
+  }
+  BlockSummary summary;
+  for (auto * index : { &summary.m_ImageSize, &summary.m_Begin, &summary.m_End })
+  {
+    for (uint64_t & value : *index)
+    {
+      value = reader.Get<uint64_t>();
+    }
+  }
+  summary.m_Rules.MaximumComponentSize = reader.Get<uint64_t>();
+  summary.m_Rules.Side = static_cast<SmallIsoComponentEnums::Side>(reader.Get<uint8_t>());
+  summary.m_Rules.FullyConnected = reader.Get<uint8_t>() != 0;
+  summary.m_Rules.AnyAbove = reader.Get<uint8_t>() != 0;
+  summary.m_Rules.AnyBelow = reader.Get<uint8_t>() != 0;
+  summary.m_Size = reader.GetVector<uint64_t>();
+  summary.m_Above = reader.GetVector<uint8_t>();
+  summary.m_Flipped = reader.GetVector<uint64_t>();
+  for (auto & layer : summary.m_Face)
+  {
+    layer = reader.GetVector<NodeType>();
+  }
+  summary.m_Touching = reader.GetVector<std::pair<NodeType, NodeType>>();
+  for (SideTally * tally : { &summary.m_Tally.Above, &summary.m_Tally.Below })
+  {
+    tally->m_Components = reader.Get<uint64_t>();
+    tally->m_RemovedComponents = reader.Get<uint64_t>();
+    tally->m_RemovedVoxels = reader.Get<uint64_t>();
+    for (const auto & entry : reader.GetVector<std::pair<uint64_t, uint64_t>>())
+    {
+      tally->m_Large[entry.first] += entry.second;
+    }
+  }
+  summary.m_Tally.ModifiedVoxels = reader.Get<uint64_t>();
+  summary.m_Tally.UnrepairableVoxels = reader.Get<uint64_t>();
+  const SizeValueType nodes = summary.m_Size.size();
+  bool                valid = reader.AtEnd() && summary.m_Above.size() == nodes && summary.m_Flipped.size() == nodes;
+  for (const auto & layer : summary.m_Face)
+  {
+    for (const NodeType node : layer)
+    {
+      valid = valid && node < nodes;
+    }
+  }
+  for (const auto & pair : summary.m_Touching)
+  {
+    valid = valid && pair.first < nodes && pair.second < nodes;
+  }
+  if (!valid)
+  {
+    itkGenericExceptionMacro("BlockSummary::Deserialize: the data is inconsistent (not a block summary)");
+  }
+  return summary;
+}
+
+SizeValueType
+BlockSummary::GetMemoryInBytes() const
+{
+  SizeValueType bytes = m_Size.capacity() * sizeof(uint64_t) + m_Above.capacity() +
+                        m_Flipped.capacity() * sizeof(uint64_t) +
+                        m_Touching.capacity() * sizeof(std::pair<NodeType, NodeType>);
+  for (const auto & layer : m_Face)
+  {
+    bytes += layer.capacity() * sizeof(NodeType);
+  }
+  return bytes;
+}
+} // namespace SmallIsoComponentDetail
+} // end namespace itk

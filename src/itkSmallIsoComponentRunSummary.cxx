@@ -1,0 +1,124 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkSmallIsoComponentRunSummary.h"
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+uint64_t
+BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side)
+{
+  return side == SmallIsoComponentEnums::Side::Both ? 2 * maximumComponentSize : maximumComponentSize;
+}
+
+BlockSummary
+SummarizeLabeling(const RunLabeling &             labeling,
+                  const BlockSummary::IndexType & extent,
+                  const BlockSummary::IndexType & imageSize,
+                  const BlockSummary::IndexType & begin,
+                  const ComponentRules &          rules)
+{
+  using NodeType = BlockSummary::NodeType;
+  const BlockSummary::IndexType end{ begin[0] + extent[0], begin[1] + extent[1], begin[2] + extent[2] };
+  BlockSummary                  summary(imageSize, begin, end, rules);
+  const SizeValueType           components = labeling.GetNumberOfComponents();
+  for (SizeValueType c = 0; c < components; ++c)
+  {
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
+    summary.AddComponent(labeling.IsComponentAbove(component), labeling.GetComponentSize(component));
+  }
+
+  // The faces inside the image: the components of the voxels along them.
+  const SizeValueType         nx = extent[0];
+  const SizeValueType         ny = extent[1];
+  const SizeValueType         nz = extent[2];
+  const RunLabeling::RunTable table = labeling.GetRunTable();
+  const auto componentOf = [&](SizeValueType run) { return static_cast<NodeType>(table.Component[run]); };
+  // Writes the components of line \a line into layer[first...] (one per voxel).
+  const auto fillLine = [&](std::vector<NodeType> & layer, SizeValueType first, SizeValueType line) {
+    for (SizeValueType run = table.LineBegin[line]; run < table.LineBegin[line + 1]; ++run)
+    {
+      std::fill(
+        layer.begin() + first + table.Start[run], layer.begin() + first + table.End(run, line), componentOf(run));
+    }
+  };
+  for (const bool upper : { false, true })
+  {
+    if (summary.HasFace(0, upper))
+    {
+      std::vector<NodeType> layer(ny * nz);
+      for (SizeValueType line = 0; line < ny * nz; ++line)
+      {
+        layer[line] = componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]);
+      }
+      summary.SetFaceLayer(0, upper, std::move(layer));
+    }
+    if (summary.HasFace(1, upper))
+    {
+      std::vector<NodeType> layer(nx * nz);
+      const SizeValueType   y = upper ? ny - 1 : 0;
+      for (SizeValueType z = 0; z < nz; ++z)
+      {
+        fillLine(layer, z * nx, y + ny * z);
+      }
+      summary.SetFaceLayer(1, upper, std::move(layer));
+    }
+    if (summary.HasFace(2, upper))
+    {
+      std::vector<NodeType> layer(nx * ny);
+      const SizeValueType   z = upper ? nz - 1 : 0;
+      for (SizeValueType y = 0; y < ny; ++y)
+      {
+        fillLine(layer, y * nx, y + ny * z);
+      }
+      summary.SetFaceLayer(2, upper, std::move(layer));
+    }
+  }
+
+  // For Side Both: the below components that each possibly small above component touches. All
+  // the runs of a component of at most K voxels are candidates.
+  std::vector<uint8_t> possiblySmall(components, 0);
+  bool                 any = false;
+  for (SizeValueType c = 0; c < components; ++c)
+  {
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
+    possiblySmall[c] =
+      labeling.IsComponentAbove(component) && summary.NeedsTouching(labeling.GetComponentSize(component));
+    any = any || possiblySmall[c];
+  }
+  if (any)
+  {
+    for (const auto & candidate : labeling.CollectCandidateRuns(possiblySmall))
+    {
+      const NodeType above = componentOf(candidate.Run);
+      NodeType       last = BlockSummary::NoNode;
+      ForEachTouchingRunOfOtherSide(labeling, candidate.Run, candidate.Line, [&](SizeValueType other) {
+        const NodeType below = componentOf(other);
+        if (below != last)
+        {
+          summary.AddTouching(above, below);
+          last = below;
+        }
+      });
+    }
+  }
+  return summary;
+}
+} // namespace SmallIsoComponentDetail
+} // end namespace itk

@@ -1,0 +1,225 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// The streaming sweep against the brute-force reference: every output voxel, every mask voxel and
+// every statistic, for random volumes, slab thicknesses from one plane to the whole volume, and
+// input handed over in random pieces.
+
+#include "itkSmallIsoComponentStreamingSweep.h"
+#include "itkSmallIsoComponentTestUtilities.h"
+
+#include "gtest/gtest.h"
+
+namespace
+{
+using namespace itk;
+using namespace itk::SmallIsoComponentTest;
+
+/** Runs the sweep on \a c with slabs of \a slabPlanes planes, the input handed over in pieces of 1
+ * to 4 planes drawn from \a random, and returns how it differs from the reference (empty if not). */
+template <typename TPixel, unsigned int VDimension>
+std::string
+SweepDifferences(const RandomCase<TPixel, VDimension> & c,
+                 uint64_t                               slabPlanes,
+                 unsigned int                           workUnits,
+                 RandomSource &                         random)
+{
+  const auto expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
+  // The image as a box whose planes are along its last axis.
+  std::array<uint64_t, 3> size{ c.Size[0], 1, 1 };
+  if (VDimension == 2)
+  {
+    size[2] = c.Size[1];
+  }
+  else
+  {
+    size[1] = c.Size[1];
+    size[2] = c.Size[2];
+  }
+  const uint64_t       planeVoxels = size[0] * size[1];
+  std::vector<TPixel>  output(c.Values.size());
+  std::vector<uint8_t> mask(c.Values.size());
+  uint64_t             nextPlane = 0;
+  bool                 outOfOrder = false;
+  auto                 threader = MultiThreaderBase::New();
+  threader->SetNumberOfWorkUnits(workUnits);
+  SmallIsoComponentDetail::StreamingSweep<TPixel> sweep(
+    size,
+    c.Settings.IsoValue,
+    c.Settings.MaximumComponentSize,
+    c.Settings.Side,
+    c.Settings.FullyConnected,
+    slabPlanes,
+    true,
+    threader,
+    workUnits,
+    [&](uint64_t plane, const TPixel * values, const uint8_t * planeMask) {
+      outOfOrder = outOfOrder || plane != nextPlane;
+      ++nextPlane;
+      std::copy(values, values + planeVoxels, output.begin() + plane * planeVoxels);
+      std::copy(planeMask, planeMask + planeVoxels, mask.begin() + plane * planeVoxels);
+    });
+  for (uint64_t given = 0; given < size[2];)
+  {
+    const auto piece = std::min<uint64_t>(size[2] - given, static_cast<uint64_t>(random.Between(1, 4)));
+    sweep.Push(c.Values.data() + given * planeVoxels, piece);
+    given += piece;
+  }
+  sweep.Finish();
+
+  std::ostringstream differences;
+  if (outOfOrder || nextPlane != size[2])
+  {
+    differences << " planes out of order or missing";
+  }
+  uint64_t wrongVoxels = 0;
+  uint64_t wrongMask = 0;
+  uint64_t fallbackMarks = 0;
+  for (std::size_t v = 0; v < output.size(); ++v)
+  {
+    wrongVoxels += SameBits(output[v], expected.Output[v]) ? 0 : 1;
+    wrongMask += (mask[v] & 3) == expected.Mask[v] ? 0 : 1;
+    fallbackMarks += ((mask[v] & 4) != 0 ? 1 : 0) + ((mask[v] & 8) != 0 ? 1 : 0);
+  }
+  if (wrongVoxels > 0 || wrongMask > 0)
+  {
+    differences << " " << wrongVoxels << " voxels and " << wrongMask << " mask voxels differ";
+  }
+  if (fallbackMarks != expected.FallbackVoxels)
+  {
+    differences << " " << fallbackMarks << " voxels marked as given the fallback value, not "
+                << expected.FallbackVoxels;
+  }
+  const auto & tally = sweep.GetTally();
+  const auto   compareSide =
+    [&](const char * name, const SmallIsoComponentDetail::SideTally & got, const Reference::SideStatistics & want) {
+      const auto histogram = got.GetHistogram();
+      if (got.GetComponents() != want.Components || got.GetRemovedComponents() != want.RemovedComponents ||
+          got.GetRemovedVoxels() != want.RemovedVoxels ||
+          Reference::HistogramType(histogram.begin(), histogram.end()) != want.Histogram)
+      {
+        differences << " " << name << " statistics differ";
+      }
+    };
+  compareSide("above", tally.Above, expected.Above);
+  compareSide("below", tally.Below, expected.Below);
+  if (tally.ModifiedVoxels != expected.ModifiedVoxels ||
+      tally.UnrepairableVoxels + sweep.GetNumberOfFallbackVoxels() != expected.UnrepairableVoxels)
+  {
+    differences << " modified " << tally.ModifiedVoxels << "/" << expected.ModifiedVoxels << ", unrepairable "
+                << tally.UnrepairableVoxels << "+" << sweep.GetNumberOfFallbackVoxels() << "/"
+                << expected.UnrepairableVoxels;
+  }
+  const uint64_t bound =
+    SmallIsoComponentDetail::StreamingSweep<TPixel>::WindowPlanes(c.Settings.MaximumComponentSize, slabPlanes);
+  if (sweep.GetPeakWindowPlanes() > bound)
+  {
+    differences << " held " << sweep.GetPeakWindowPlanes() << " planes at once, more than the bound " << bound;
+  }
+  if (!differences.str().empty())
+  {
+    differences << " (slabPlanes=" << slabPlanes << " workUnits=" << workUnits << ")";
+  }
+  return differences.str();
+}
+
+template <typename TPixel, unsigned int VDimension>
+void
+CheckSweepOfRandomVolumes(uint32_t firstSeed, unsigned int numberOfVolumes, bool large = false)
+{
+  unsigned int failures = 0;
+  unsigned int thinSlabs = 0;
+  for (uint32_t seed = firstSeed; seed < firstSeed + numberOfVolumes && failures < 5; ++seed)
+  {
+    const auto     c = MakeRandomCase<TPixel, TPixel, VDimension>(seed, large);
+    RandomSource   random(seed * 31u + 7u);
+    const uint64_t depth = VDimension == 2 ? c.Size[1] : c.Size[2];
+    const uint64_t slabPlanes =
+      random.Chance(0.3) ? 1 : static_cast<uint64_t>(random.Between(1, static_cast<int>(depth)));
+    const unsigned int workUnits = random.Chance(0.5) ? 1 : 2;
+    thinSlabs += slabPlanes == 1 ? 1 : 0;
+    const std::string differences = SweepDifferences(c, slabPlanes, workUnits, random);
+    if (!differences.empty())
+    {
+      ADD_FAILURE() << c.Description << ":" << differences;
+      ++failures;
+    }
+  }
+  EXPECT_GT(thinSlabs, numberOfVolumes / 5);
+}
+
+/** Tall volumes of random binary noise with a small K: the window must stay within its bound
+ * while the sweep runs far past it. */
+void
+CheckSweepOfTallNoise(uint32_t firstSeed, unsigned int numberOfVolumes)
+{
+  unsigned int failures = 0;
+  for (uint32_t seed = firstSeed; seed < firstSeed + numberOfVolumes && failures < 5; ++seed)
+  {
+    RandomSource           random(seed);
+    RandomCase<uint8_t, 3> c;
+    c.Size = { static_cast<SizeValueType>(random.Between(1, 9)),
+               static_cast<SizeValueType>(random.Between(1, 9)),
+               static_cast<SizeValueType>(random.Between(60, 140)) };
+    const double density = 0.2 + 0.6 * random.Uniform();
+    for (SizeValueType v = 0; v < c.Size[0] * c.Size[1] * c.Size[2]; ++v)
+    {
+      c.Values.push_back(random.Chance(density) ? 255 : 0);
+    }
+    c.Input = MakeImage<uint8_t, 3>(c.Size, c.Values);
+    c.Settings.IsoValue = 127.5;
+    c.Settings.MaximumComponentSize = static_cast<SizeValueType>(random.Between(1, 6));
+    c.Settings.Side = random.Pick(std::array<SideEnum, 3>{ SideEnum::Above, SideEnum::Below, SideEnum::Both });
+    c.Settings.FullyConnected = random.Chance(0.5);
+    const auto        slabPlanes = static_cast<uint64_t>(random.Between(1, 5));
+    const std::string differences = SweepDifferences(c, slabPlanes, 1, random);
+    if (!differences.empty())
+    {
+      ADD_FAILURE() << "seed=" << seed << " size=[" << c.Size[0] << "," << c.Size[1] << "," << c.Size[2]
+                    << "] density=" << density << " K=" << c.Settings.MaximumComponentSize
+                    << " side=" << c.Settings.Side << " fullyConnected=" << c.Settings.FullyConnected << ":"
+                    << differences;
+      ++failures;
+    }
+  }
+}
+} // namespace
+
+TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOn3DVolumes)
+{
+  CheckSweepOfRandomVolumes<uint8_t, 3>(1, 600);
+}
+
+TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOn2DVolumes)
+{
+  CheckSweepOfRandomVolumes<float, 2>(5001, 600);
+}
+
+TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOnLargerInt16Volumes)
+{
+  CheckSweepOfRandomVolumes<int16_t, 3>(7001, 60, true);
+}
+
+TEST(SmallIsoComponentStreamingSweep, HoldsABoundedWindowOnTallNoise)
+{
+  CheckSweepOfTallNoise(1, 300);
+}
+
+TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOnDoubleVolumesWithNaN)
+{
+  CheckSweepOfRandomVolumes<double, 3>(9001, 400);
+}
