@@ -13,18 +13,20 @@
 #                                                     in-tree, python) and 6.0b02 (external)
 #
 # VERSION is 5.2.1, 5.4.7 or 6.0b02. The source comes from, in this order:
-#   ITK_SOURCE_DIR  an unpacked ITK source tree of that version (used as it is)
+#   ITK_SOURCE_DIR  an unpacked ITK source tree of that version (not fetched: patched and
+#                   used in place, and the in-tree check writes into its Modules/Remote)
 #   Debian's source package (5.2.1 from bookworm; 5.4.7 from sid, through a temporary
 #                   deb-src entry that is removed again)
 #   ITK_GIT_DIR     a git repository (bare or not) holding the tag vVERSION (6.0b02)
-#   ITK_GIT_URL     a clone of ITK's repository (default: GitHub's), when online (6.0b02)
+#   ITK_GIT_URL     a repository to clone the tag from (default: ITK's on GitHub) (6.0b02)
 #
 # The cache ($SMALLISO_ITK_CACHE, default ~/.cache/smalliso-itk) holds, per version, the
 # source, the ITK build trees and a record of how long each step took (step-times.txt).
 # Every step leaves a stamp there when it finishes, so rerunning the script continues where
 # it stopped. Compilers run through ccache (in the cache), so the in-tree build, which is a
-# second ITK build, reuses the first one's objects. The module's own builds go to
-# build-itk-source/VERSION-CHECK in the repository.
+# second ITK build, reuses the first one's objects. The module's own builds for the external
+# and python checks go to build-itk-source/VERSION-CHECK in the repository.
+# docs/python-and-itk-from-source.md describes the steps, the checks and the patches.
 #
 # Environment: SMALLISO_ITK_CACHE, SMALLISO_ITK_JOBS (parallel jobs, default: cores),
 # SMALLISO_ITK_WRAP (ON/OFF: build ITK's Python wrapping; default ON for 5.2.1 and 5.4.7,
@@ -217,7 +219,7 @@ step_fetch() {
 }
 
 # Fixes for tools newer than ITK 5.2.1, and for Debian 12's SWIG under ITK 5.4 (explained in
-# docs/itk-versions.md). Each is applied once; a rerun finds it applied.
+# docs/python-and-itk-from-source.md, "Patches"). Each is applied once; a rerun finds it applied.
 apply_patch() {
   local name=$1 patch_text
   patch_text=$(cat)
@@ -231,8 +233,8 @@ apply_patch() {
 
 step_patch() {
   if [[ ${version} == 5.4.7 ]]; then
-    # ITK 5.4's Python wrapping calls SWIG_Py_DECREF, a macro that SWIG 4.2 added for
-    # Py_DECREF; Debian 12 has SWIG 4.1.
+    # ITK 5.4's Python wrapping calls SWIG_Py_DECREF and SWIG_Py_XDECREF, macros that SWIG
+    # 4.3 added (Py_DECREF and Py_XDECREF outside Python's limited API); Debian 12 has SWIG 4.1.
     local file
     grep -rl --include='*.i' --include='*.hxx' --include='CMakeLists.txt' SWIG_Py_ "${itk_source}/Wrapping" \
       "${itk_source}/Modules/Bridge/NumPy" 2>/dev/null | while read -r file; do
@@ -467,7 +469,7 @@ main() {
       ;;
     matrix) cmd_matrix ;;
     *)
-      sed -n '2,33p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,/^[^#]/{/^#/{s/^# \{0,1\}//;p}}' "$0"
       exit 2
       ;;
   esac
