@@ -233,14 +233,17 @@ apply_patch() {
 
 step_patch() {
   if [[ ${version} == 5.4.7 ]]; then
-    # ITK 5.4's Python wrapping calls SWIG_Py_DECREF and SWIG_Py_XDECREF, macros that SWIG
-    # 4.3 added (Py_DECREF and Py_XDECREF outside Python's limited API); Debian 12 has SWIG 4.1.
-    local file
-    grep -rl --include='*.i' --include='*.hxx' --include='CMakeLists.txt' SWIG_Py_ "${itk_source}/Wrapping" \
-      "${itk_source}/Modules/Bridge/NumPy" 2>/dev/null | while read -r file; do
-      sed -i 's/SWIG_Py_DECREF/Py_DECREF/g; s/SWIG_Py_XDECREF/Py_XDECREF/g' "${file}"
+    # ITK 5.4's Python wrapping calls SWIG_Py_INCREF, SWIG_Py_DECREF and their X forms, macros
+    # that SWIG 4.3 added (Py_INCREF and Py_DECREF outside Python's limited API); Debian 12
+    # has SWIG 4.1. Files already patched hold none of them and are left alone.
+    local file files
+    files=$(grep -rlE --include='*.i' --include='*.hxx' --include='CMakeLists.txt' 'SWIG_Py_X?(IN|DE)CREF' \
+      "${itk_source}/Wrapping" "${itk_source}/Modules/Bridge/NumPy" 2>/dev/null || true)
+    for file in ${files}; do
+      sed -i -E 's/SWIG_Py_(X?)(IN|DE)CREF/Py_\1\2CREF/g' "${file}"
       log "patch swig-4.1: ${file#"${itk_source}"/}"
     done
+    [[ -n ${files} ]] || log "patch swig-4.1: already applied"
     return 0
   fi
   [[ ${version} == 5.2.1 ]] || return 0
