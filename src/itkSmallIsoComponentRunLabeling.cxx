@@ -31,7 +31,7 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
 {
   if (size.empty() || size[0] == 0 || size[0] > NumericTraits<CoordinateType>::max())
   {
-    itkGenericExceptionMacro("SmallIsoComponentRunLabeling: lines along axis 0 must have between 1 and "
+    itkGenericExceptionMacro("SmallIsoComponent: lines along axis 0 must have between 1 and "
                              << NumericTraits<CoordinateType>::max() << " voxels");
   }
   m_Size = size;
@@ -77,9 +77,11 @@ RunLabeling::AssembleRuns(WorkTeam & team)
   const SizeValueType numberOfRuns = m_LineRunBegin.back();
   if (numberOfRuns >= NumericTraits<RunIndexType>::max())
   {
-    itkGenericExceptionMacro("SmallIsoComponentRunLabeling: the image has "
-                             << numberOfRuns << " scanline runs; at most " << NumericTraits<RunIndexType>::max() - 1
-                             << " are supported");
+    itkGenericExceptionMacro("SmallIsoComponent: the image has "
+                             << numberOfRuns << " scanline runs; the filter holds at most "
+                             << NumericTraits<RunIndexType>::max() - 1
+                             << " at once: filter it in slabs with SmallIsoComponentStreamingImageFilter "
+                                "(SmallIsoComponentFilter --memory-limit), which labels fewer at a time");
   }
   m_NumberOfRuns = numberOfRuns;
   m_RunStart.reset(new CoordinateType[numberOfRuns]);
