@@ -13,8 +13,11 @@ smalliso_install_missing "${smalliso_packages[@]}" gcovr
 
 echo "coverage: configuring and building in $build"
 # No build type: the flags below are the only optimisation flags.
+# Counters are updated atomically: the work team's threads share them, and racing updates
+# leave counts that gcov cannot read. Debian's interpreter, as in setup.sh.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE= -DBUILD_TESTING=ON \
-  -DCMAKE_CXX_FLAGS="--coverage -O1" -DCMAKE_EXE_LINKER_FLAGS=--coverage -DCMAKE_SHARED_LINKER_FLAGS=--coverage \
+  -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" \
+  -DCMAKE_CXX_FLAGS="--coverage -fprofile-update=atomic -O1" -DCMAKE_EXE_LINKER_FLAGS=--coverage -DCMAKE_SHARED_LINKER_FLAGS=--coverage \
   >"$build.configure.log" 2>&1 || { cat "$build.configure.log" >&2; exit 1; }
 cmake --build "$build" -j "$(nproc)"
 
