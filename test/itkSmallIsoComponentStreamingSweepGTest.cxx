@@ -197,6 +197,44 @@ CheckSweepOfTallNoise(uint32_t firstSeed, unsigned int numberOfVolumes)
     }
   }
 }
+/** A hand-made 3-D case: \a size voxels, all \a background except those \a draw sets. */
+template <typename TDraw>
+RandomCase<int16_t, 3>
+NamedCase(const std::array<SizeValueType, 3> & size, SizeValueType maximumSize, SideEnum side, TDraw && draw)
+{
+  RandomCase<int16_t, 3> c;
+  c.Size = size;
+  c.Values.assign(size[0] * size[1] * size[2], 0);
+  // Varied values on each side, so that the repair values tell the walks apart.
+  for (SizeValueType v = 0; v < c.Values.size(); ++v)
+  {
+    c.Values[v] = static_cast<int16_t>(-1 - static_cast<int>(v % 7));
+  }
+  const auto at = [&](SizeValueType x, SizeValueType y, SizeValueType z) -> int16_t & {
+    return c.Values[x + size[0] * (y + size[1] * z)];
+  };
+  draw(at);
+  c.Input = MakeImage<int16_t, 3>(c.Size, c.Values);
+  c.Settings.IsoValue = 0.5;
+  c.Settings.MaximumComponentSize = maximumSize;
+  c.Settings.Side = side;
+  return c;
+}
+
+/** The sweep of \a c with every slab thickness from one plane to the whole depth, at one and two
+ * work units, against the reference. */
+void
+ExpectEverySlabThicknessMatches(const RandomCase<int16_t, 3> & c)
+{
+  RandomSource random(1);
+  for (uint64_t slabPlanes = 1; slabPlanes <= c.Size[2]; ++slabPlanes)
+  {
+    for (const unsigned int workUnits : { 1u, 2u })
+    {
+      EXPECT_EQ(SweepDifferences(c, slabPlanes, workUnits, random), "");
+    }
+  }
+}
 } // namespace
 
 TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOn3DVolumes)
@@ -222,4 +260,85 @@ TEST(SmallIsoComponentStreamingSweep, HoldsABoundedWindowOnTallNoise)
 TEST(SmallIsoComponentStreamingSweep, MatchesTheReferenceOnDoubleVolumesWithNaN)
 {
   CheckSweepOfRandomVolumes<double, 3>(9001, 400);
+}
+
+TEST(SmallIsoComponentStreamingSweep, ComponentsSpanningExactlyKAndKPlusOnePlanes)
+{
+  constexpr SizeValueType k = 4;
+  const auto              c = NamedCase({ 4, 4, 2 * k + 4 }, k, SideEnum::Above, [&](auto at) {
+    for (SizeValueType z = 1; z <= k; ++z)
+    {
+      at(0, 0, z) = static_cast<int16_t>(10 + z); // K voxels over K planes: removed
+    }
+    for (SizeValueType z = 2; z <= k + 2; ++z)
+    {
+      at(3, 3, z) = 20; // K + 1 voxels over K + 1 planes: kept
+    }
+  });
+  const auto              expected = Reference::Run<int16_t>(c.Input.GetPointer(), c.Settings);
+  EXPECT_EQ(expected.Above.RemovedComponents, 1u);
+  EXPECT_EQ(expected.Above.Components, 2u);
+  ExpectEverySlabThicknessMatches(c);
+}
+
+TEST(SmallIsoComponentStreamingSweep, BubbleInASpeckAcrossSlabBoundaries)
+{
+  // A 3 x 3 x 3 speck around a one-voxel bubble, planes 2 to 4: with Side Both the speck goes and
+  // takes its bubble with it, across whichever slab boundaries fall inside it.
+  const auto c = NamedCase({ 5, 5, 8 }, 30, SideEnum::Both, [](auto at) {
+    for (SizeValueType z = 2; z <= 4; ++z)
+      for (SizeValueType y = 1; y <= 3; ++y)
+        for (SizeValueType x = 1; x <= 3; ++x)
+        {
+          at(x, y, z) = static_cast<int16_t>(x + y + z);
+        }
+    at(2, 2, 3) = -50;
+  });
+  const auto expected = Reference::Run<int16_t>(c.Input.GetPointer(), c.Settings);
+  EXPECT_EQ(expected.Above.RemovedComponents, 1u);
+  EXPECT_EQ(expected.Below.Components, 2u);
+  EXPECT_EQ(expected.ModifiedVoxels, 26u);
+  ExpectEverySlabThicknessMatches(c);
+}
+
+TEST(SmallIsoComponentStreamingSweep, WalksThatCrossAWholeComponentOfKPlanes)
+{
+  // A column of K voxels along the planes: the walk from its first voxel meets the other side K
+  // planes away, the farthest a walk of a removed component can go.
+  constexpr SizeValueType k = 5;
+  const auto              c = NamedCase({ 3, 3, k + 3 }, k, SideEnum::Above, [&](auto at) {
+    for (SizeValueType z = 1; z <= k; ++z)
+    {
+      at(1, 1, z) = 7;
+    }
+    at(1, 1, 0) = -300;
+    at(1, 1, k + 1) = -100;
+  });
+  const auto              expected = Reference::Run<int16_t>(c.Input.GetPointer(), c.Settings);
+  EXPECT_EQ(expected.Above.RemovedComponents, 1u);
+  ExpectEverySlabThicknessMatches(c);
+}
+
+TEST(SmallIsoComponentStreamingSweep, ComponentsThatCloseOnlyAtTheLastPlane)
+{
+  // A small component that ends in the last plane, beside an object that spans every plane: neither
+  // is complete before the sweep reaches the end.
+  constexpr SizeValueType k = 6;
+  const auto              c = NamedCase({ 4, 4, 9 }, k, SideEnum::Both, [&](auto at) {
+    for (SizeValueType z = 0; z < 9; ++z)
+    {
+      at(3, 0, z) = 40;
+      at(3, 1, z) = 40;
+      at(2, 1, z) = 41;
+    }
+    for (SizeValueType z = 4; z < 9; ++z)
+    {
+      at(0, 3, z) = 9;
+    }
+  });
+  const auto              expected = Reference::Run<int16_t>(c.Input.GetPointer(), c.Settings);
+  EXPECT_EQ(expected.Above.RemovedComponents, 1u);
+  EXPECT_EQ(expected.Above.Components, 2u);
+  EXPECT_EQ(expected.ModifiedVoxels, 5u);
+  ExpectEverySlabThicknessMatches(c);
 }
