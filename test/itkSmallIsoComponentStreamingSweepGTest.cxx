@@ -296,7 +296,8 @@ TEST(SmallIsoComponentStreamingSweep, BubbleInASpeckAcrossSlabBoundaries)
   });
   const auto expected = Reference::Run<int16_t>(c.Input.GetPointer(), c.Settings);
   EXPECT_EQ(expected.Above.RemovedComponents, 1u);
-  EXPECT_EQ(expected.Below.Components, 2u);
+  // The below pass sees the bubble joined to the background through the flipped speck.
+  EXPECT_EQ(expected.Below.Components, 1u);
   EXPECT_EQ(expected.ModifiedVoxels, 26u);
   ExpectEverySlabThicknessMatches(c);
 }
