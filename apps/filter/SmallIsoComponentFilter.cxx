@@ -198,13 +198,13 @@ DescribeTool()
 #endif
   Option threads{ "--threads",
                   "N",
-                  "Number of ITK work units to use (the filter runs at most one thread per core); 0 uses ITK's "
-                  "default (the number of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not "
-                  "depend on it.",
+                  "Number of ITK work units to use, at most " + std::to_string(sic::MaximumThreads()) +
+                    " (ITK's limit); the filter runs at most one thread per core. 0 uses ITK's default (the number "
+                    "of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not depend on it.",
                   "0",
                   parameter("integer", "threads", "Threads", "Advanced") };
   threads.Slicer.Minimum = "0";
-  threads.Slicer.Maximum = "1024";
+  threads.Slicer.Maximum = std::to_string(sic::MaximumThreads());
   Option quiet{ "--quiet",
                 "",
                 "Print neither progress nor the summary; errors are still reported on stderr.",

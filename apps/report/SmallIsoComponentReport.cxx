@@ -141,7 +141,8 @@ DescribeTool()
       {} },
     { "--threads",
       "N",
-      "Number of threads (ITK work units); 0 uses ITK's default. The report does not depend on it.",
+      "Number of threads (ITK work units), at most " + std::to_string(sic::MaximumThreads()) +
+        " (ITK's limit); 0 uses ITK's default. The report does not depend on it.",
       "0",
       {} },
     { "--help", "", "Print this help and exit (also -h).", "", {} },
