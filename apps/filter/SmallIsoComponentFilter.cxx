@@ -507,7 +507,7 @@ Run(const sic::FilterSettings & settings)
 
   // Every output is checked, and its staging place made, before the work starts.
   sic::StagedOutputs outputs;
-  outputs.Protect(settings.Input, "the input image");
+  outputs.Protect(info.Files, "the input image");
   StagedPaths staged;
   staged.Image = outputs.Stage(settings.Output, "output image");
   sic::CheckImageFileFormat(settings.Output, "output image", info.Dimension);
@@ -536,10 +536,7 @@ Run(const sic::FilterSettings & settings)
   }
   if (!settings.Render.empty())
   {
-    if (std::filesystem::path(settings.Render).extension() != ".png")
-    {
-      throw sic::ToolError("cannot write the rendering '" + settings.Render + "': expected a .png file");
-    }
+    sic::CheckPngFileName(settings.Render, "rendering");
     staged.Render = outputs.Stage(settings.Render, "rendering");
     sic::HeadlessDisplay::CheckAvailable();
   }
