@@ -19,12 +19,15 @@
 #define itkSmallIsoComponentImageFilter_h
 
 #include "itkInPlaceImageFilter.h"
-#include <functional>
+#include "itkProgressTransformer.h"
+#include "itkSmallIsoComponentBelowGrouping.h"
+#include "itkSmallIsoComponentDeferredFill.h"
 #include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentPeakMemory.h"
 #include "itkSmallIsoComponentRunLabeling.h"
-#include "itkSmallIsoComponentThreshold.h"
 #include <map>
 #include <type_traits>
+#include <vector>
 
 namespace itk
 {
@@ -85,35 +88,21 @@ namespace itk
  * describe the image the below pass saw: the result of the above pass when Side is Both,
  * the input otherwise.
  *
- * Algorithm: each scanline is encoded as alternating runs of the two sides; one
- * union-find over the runs (SmallIsoComponentRunLabeling) labels both sides at once, in
- * parallel slabs without locks. For Both, the below components after the above pass are
- * found without relabelling: each removed above component merges with the below
- * components it touches. Only the removed voxels are visited again for the repair.
- * Output and statistics do not depend on the number of threads or work units.
- *
- * Threads: with a PoolMultiThreader (ITK's default) and more than one work unit, an
- * update asks ITK's thread pool once for its helper threads (SmallIsoComponentWorkTeam,
- * at most one per other core) and hands them all its parallel steps, instead of waking
- * the pool for each; between steps they wait for up to a millisecond by spinning, then
- * sleep. Progress and abort events stay on the calling thread. Other threaders get each
- * step through ParallelizeArray(). Large images of one pixel type (output and mask of
- * 4 MiB or more) are written with streaming stores while the components are numbered.
+ * The filter runs on its threader with the number of work units SetNumberOfWorkUnits()
+ * gives; its output and statistics depend on neither that number nor the threads'.
  *
  * Memory beyond input, output and mask: 8 bytes per scanline run (a run is a maximal
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
- * at most K voxels, kept while the components are numbered so that the passes need not
- * scan all runs again), and 8 bytes per removed run plus one output pixel per removed
- * voxel; GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes
- * have far fewer runs than voxels: 0.12 to 0.38 bytes per voxel on the Open SciVis
- * volumes (0.97 on the 113,000-voxel silicium lattice). The worst case is a volume whose
- * sides alternate at every voxel (a 3-D checkerboard with face connectivity: one run and
- * one component per voxel, all candidates, all removed), measured at 38 bytes per voxel
- * with Side Both.
+ * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel;
+ * GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes have
+ * far fewer runs than voxels; a volume whose sides alternate at every voxel has one run
+ * per voxel.
  *
  * The filter can run in place (InPlaceOn(), when input and output types are the same),
  * which saves the output buffer and the copy; it is off by default.
+ *
+ * docs/algorithm.md describes how it works and where each step is implemented.
  *
  * \sa ConnectedComponentImageFilter
  * \sa RelabelComponentImageFilter
@@ -206,7 +195,11 @@ public:
   /** K used by the last Update() (from MaximumComponentVolume when that was set last). */
   itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
   /** Peak bytes the last Update() held beyond input, output and mask. */
-  itkGetConstMacro(PeakExtraMemoryInBytes, SizeValueType);
+  virtual SizeValueType
+  GetPeakExtraMemoryInBytes() const
+  {
+    return m_ExtraMemory.GetPeakInBytes();
+  }
   /** @} */
 
   using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
@@ -221,8 +214,14 @@ protected:
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
+  // ProcessObject::VerifyPreconditions() is const, except in ITK 5 builds with ITKV4_COMPATIBILITY.
+#if defined(ITKV4_COMPATIBILITY)
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() override;
+#else
+  void
+  VerifyPreconditions() const override;
+#endif
 
   /** The whole image is needed: components reach anywhere. */
   void
@@ -234,6 +233,12 @@ protected:
   GenerateData() override;
 
 private:
+  using WorkTeam = SmallIsoComponentDetail::WorkTeam;
+  using RunLabeling = SmallIsoComponentDetail::RunLabeling;
+  using DeferredFill = SmallIsoComponentDetail::DeferredFill;
+  using LineRun = RunLabeling::LineRun;
+  using BelowGrouping = SmallIsoComponentDetail::BelowGrouping;
+
   struct SideStatistics
   {
     SizeValueType              Components{ 0 };
@@ -242,40 +247,96 @@ private:
     ComponentSizeHistogramType Histogram;
   };
 
+  /** The components a pass removes: one flag per component, and their runs in run order. */
+  struct Removal
+  {
+    std::vector<uint8_t> Removed;
+    std::vector<LineRun> Runs;
+  };
+
+  SideStatistics &
+  StatisticsOf(SideEnum side);
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
-  /** Copies each line of the input to the output, clears its mask line, and encodes it
-   * as runs, and returns an empty function. Large images of one pixel type are only
-   * encoded here: the copy and the clearing are left to the function returned, to be
-   * called as fill(first, end) for every range [first, end) of lines. */
-  std::function<void(SizeValueType, SizeValueType)>
-  EncodeRuns(SmallIsoComponentRunLabeling & labeling,
-             const InputImageType *         input,
-             OutputImageType *              output,
-             MaskImageType *                mask);
-
-  /** Gives every voxel of \a runs (the runs of the components selected by
-   * \a removedComponent, as SmallIsoComponentRunLabeling::CollectCandidateRuns() gives them) a
-   * value on the other side, marks it in the mask with \a maskValue, and returns the
-   * number of voxels changed. The values are read from \a source if given (a buffer
-   * that holds the output's values), else from the output. \a alongside, if given, is
-   * called for each chunk [first, last) of \a runs in the loop that computes the new
-   * values (work on the same runs, which holds \a alongsideBytes). */
-  SizeValueType
-  Repair(const SmallIsoComponentRunLabeling &                       labeling,
-         const std::vector<uint8_t> &                               removedComponent,
-         const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
-         bool                                                       removedAreAbove,
-         MaskPixelType                                              maskValue,
-         OutputImageType *                                          output,
-         MaskImageType *                                            mask,
-         const OutputPixelType *                                    source = nullptr,
-         const std::function<void(SizeValueType, SizeValueType)> &  alongside = nullptr,
-         SizeValueType                                              alongsideBytes = 0);
-
+  /** Throws unless the input, the output and the mask are one whole image each. */
   void
-  CheckAbort(float progress);
+  VerifyBufferedRegions();
+
+  /** Clears the statistics of the last update. */
+  void
+  ResetStatistics();
+
+  /** \name The phases of GenerateData(), in order
+   * Each phase reports the bytes it holds at its fullest to m_ExtraMemory. */
+  /** @{ */
+  /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
+  SizeValueType
+  ComputeEffectiveMaximumComponentSize(const typename InputImageType::SpacingType & spacing) const;
+
+  /** Encodes every line of the input as runs into \a labeling, after copying it to the
+   * output and clearing its mask line, and returns an empty fill. Large images of one
+   * pixel type are only encoded: the copy and the clearing are returned, to be done while
+   * the components are numbered. */
+  DeferredFill
+  EncodeRuns(WorkTeam & team, RunLabeling & labeling);
+
+  /** Links the touching runs of each side (what the assembly of the runs left: the seams
+   * between slabs) and numbers the components, keeping the runs of the components of at
+   * most K voxels as candidates; meanwhile the other work units do \a fill. */
+  void
+  LinkAndNumberComponents(WorkTeam & team, RunLabeling & labeling, const DeferredFill & fill);
+
+  /** The above pass, on the input's components: decides which ones it removes and repairs
+   * them. When the below pass follows (Side Both), the removed components flip below, and
+   * \a grouping joins the below components next to them in the repair's loop. */
+  Removal
+  RemoveAbove(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
+
+  /** The components of the image the below pass sees: the below components grouped
+   * through the above components that flipped (none unless the above pass of Both removed
+   * some). Decides which groups the below pass removes, frees the above pass's runs, and
+   * returns one flag per component, set for the members of the removed groups. */
+  std::vector<uint8_t>
+  GroupBelow(const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
+
+  /** The below pass: repairs the components flagged in \a removedBelow. */
+  void
+  RemoveBelow(WorkTeam & team, const RunLabeling & labeling, const std::vector<uint8_t> & removedBelow);
+  /** @} */
+
+  /** Counts the components of \a side in its statistics and decides which ones its pass
+   * removes: those with at most K voxels, when the pass runs and the output type has a
+   * value on the other side (else their voxels are unrepairable). sizeOf(i) is the size of
+   * entry i, or 0 for an entry that is no component of the side; one flag per entry. */
+  template <typename TSizeOf>
+  std::vector<uint8_t>
+  DecideRemovals(SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
+
+  /** The runs of the components flagged in \a removed, of \a side, in run order. */
+  std::vector<LineRun>
+  CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;
+
+  /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
+   * computed from the image before the pass, marks it in the mask, and counts it.
+   * \a joinFlipped, if given, joins the below components next to the runs in the same
+   * loop. \a heldBytes: what the caller holds meanwhile. */
+  void
+  RepairRuns(WorkTeam &                   team,
+             const RunLabeling &          labeling,
+             const std::vector<LineRun> & runs,
+             SideEnum                     side,
+             BelowGrouping *              joinFlipped,
+             SizeValueType                heldBytes);
+
+  /** Whether the above pass flips components for the below pass. */
+  bool
+  AbovePassFlips() const;
+
+  /** Completes a phase's share of the progress, then stops the update if an abort was
+   * asked for meanwhile (an observer of the progress event may ask). */
+  void
+  EndPhase(ProgressTransformer & progress);
 
   double        m_IsoValue{ 0.0 };
   SizeValueType m_MaximumComponentSize{ 20 };
@@ -284,12 +345,12 @@ private:
   SideEnum      m_Side{ SideEnum::Both };
   bool          m_FullyConnected{ false };
 
-  SideStatistics m_AboveStatistics;
-  SideStatistics m_BelowStatistics;
-  SizeValueType  m_NumberOfModifiedVoxels{ 0 };
-  SizeValueType  m_NumberOfUnrepairableVoxels{ 0 };
-  SizeValueType  m_EffectiveMaximumComponentSize{ 0 };
-  SizeValueType  m_PeakExtraMemoryInBytes{ 0 };
+  SideStatistics                      m_AboveStatistics;
+  SideStatistics                      m_BelowStatistics;
+  SizeValueType                       m_NumberOfModifiedVoxels{ 0 };
+  SizeValueType                       m_NumberOfUnrepairableVoxels{ 0 };
+  SizeValueType                       m_EffectiveMaximumComponentSize{ 0 };
+  SmallIsoComponentDetail::PeakMemory m_ExtraMemory;
 };
 } // end namespace itk
 

@@ -19,174 +19,17 @@
 #define itkSmallIsoComponentImageFilter_hxx
 
 #include "itkSmallIsoComponentImageFilter.h"
-#include "itkMath.h"
+#include "itkSmallIsoComponentRunEncoder.h"
+#include "itkSmallIsoComponentRunRepair.h"
+#include "itkSmallIsoComponentSizeCounter.h"
+#include "itkSmallIsoComponentStreamingStores.h"
+#include "itkSmallIsoComponentThreshold.h"
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
-#include <functional>
-#include <limits>
-#include <numeric>
-#if defined(__SSE2__)
-#  include <emmintrin.h>
-#endif
 
 namespace itk
 {
-namespace SmallIsoComponentDetail
-{
-template <typename T>
-bool
-IsNaN(T value)
-{
-  if constexpr (std::is_floating_point<T>::value)
-  {
-    return std::isnan(value);
-  }
-  else
-  {
-    (void)value;
-    return false;
-  }
-}
-
-/** Counts components by size: the many small sizes in an array, the few large ones in
- * the histogram itself, so that millions of components cost no tree look-ups. */
-class SizeCounter
-{
-public:
-  void
-  Add(SizeValueType size)
-  {
-    if (size < m_Small.size())
-    {
-      ++m_Small[size];
-    }
-    else
-    {
-      ++m_Large[size];
-    }
-  }
-
-  std::map<SizeValueType, SizeValueType>
-  Histogram() const
-  {
-    std::map<SizeValueType, SizeValueType> histogram = m_Large;
-    for (SizeValueType size = 0; size < m_Small.size(); ++size)
-    {
-      if (m_Small[size] > 0)
-      {
-        histogram[size] = m_Small[size];
-      }
-    }
-    return histogram;
-  }
-
-private:
-  std::vector<SizeValueType>             m_Small = std::vector<SizeValueType>(4096, 0);
-  std::map<SizeValueType, SizeValueType> m_Large;
-};
-
-/** Images whose output and mask together take at least this many bytes (twice a core's
- * level-2 cache on the machines measured) are written with streaming stores when the runs
- * are encoded: they would not stay in the caches anyway, and streaming saves reading every
- * written cache line from memory first. */
-constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 4 } << 20;
-
-/** Copies \a bytes from \a source to \a destination, with streaming stores where
- * SSE2 has them: whole 64-byte cache lines only, the partial lines at both ends with
- * ordinary stores (a partly streamed line costs more than it saves). */
-inline void
-StreamCopy(void * destination, const void * source, SizeValueType bytes)
-{
-#if defined(__SSE2__)
-  auto *       d = static_cast<char *>(destination);
-  const auto * s = static_cast<const char *>(source);
-  const auto   head = std::min<SizeValueType>(bytes, (64 - reinterpret_cast<uintptr_t>(d) % 64) % 64);
-  std::memcpy(d, s, head);
-  for (d += head, s += head, bytes -= head; bytes >= 64; d += 64, s += 64, bytes -= 64)
-  {
-    const __m128i v0 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s));
-    const __m128i v1 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 16));
-    const __m128i v2 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 32));
-    const __m128i v3 = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s + 48));
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), v0);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), v1);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), v2);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), v3);
-  }
-  std::memcpy(d, s, bytes);
-#else
-  std::memcpy(destination, source, bytes);
-#endif
-}
-
-/** Sets \a bytes at \a destination to zero, with streaming stores for the whole cache
- * lines where SSE2 has them. */
-inline void
-StreamZero(void * destination, SizeValueType bytes)
-{
-#if defined(__SSE2__)
-  auto *     d = static_cast<char *>(destination);
-  const auto head = std::min<SizeValueType>(bytes, (64 - reinterpret_cast<uintptr_t>(d) % 64) % 64);
-  std::memset(d, 0, head);
-  const __m128i zero = _mm_setzero_si128();
-  for (d += head, bytes -= head; bytes >= 64; d += 64, bytes -= 64)
-  {
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 16), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 32), zero);
-    _mm_stream_si128(reinterpret_cast<__m128i *>(d + 48), zero);
-  }
-  std::memset(d, 0, bytes);
-#else
-  std::memset(destination, 0, bytes);
-#endif
-}
-
-/** Makes this thread's streaming stores visible before it hands its work back. */
-inline void
-StreamFence()
-{
-#if defined(__SSE2__)
-  _mm_sfence();
-#endif
-}
-
-/** Asks for the cache line at \a address ahead of its use; a hint only. */
-inline void
-Prefetch(const void * address)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(address);
-#else
-  (void)address;
-#endif
-}
-
-/** Output and mask bytes per block when they are written while the components are
- * numbered. */
-constexpr SizeValueType FillBlockBytes = SizeValueType{ 256 } << 10;
-
-/** How many removed runs ahead the repair requests the voxels it will read. */
-constexpr SizeValueType PrefetchDistance = 8;
-
-/** A mean of values of type T, as T: rounded half up for integers. */
-template <typename T>
-T
-MeanToPixel(double mean)
-{
-  if constexpr (std::is_integral<T>::value)
-  {
-    return static_cast<T>(Math::Round<int64_t>(mean));
-  }
-  else
-  {
-    return static_cast<T>(mean);
-  }
-}
-} // namespace SmallIsoComponentDetail
-
 template <typename TInputImage, typename TOutputImage>
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SmallIsoComponentImageFilter()
 {
@@ -239,6 +82,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SetMaximumComponentVolu
 
 template <typename TInputImage, typename TOutputImage>
 auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) -> SideStatistics &
+{
+  return const_cast<SideStatistics &>(static_cast<const Self *>(this)->StatisticsOf(side));
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) const -> const SideStatistics &
 {
   switch (side)
@@ -283,7 +133,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetComponentSizeHistogr
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions()
+#if !defined(ITKV4_COMPATIBILITY)
+  const
+#endif
 {
   Superclass::VerifyPreconditions();
   if (std::isnan(m_IsoValue))
@@ -327,35 +180,114 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EnlargeOutputRequestedR
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CheckAbort(float progress)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
-  this->UpdateProgress(progress);
-  if (this->GetAbortGenerateData())
+  // The parallel steps are short: one team of threads takes them all, instead of waking
+  // the threader's pool for each. It is formed first, so that its helpers wake up while
+  // the outputs are allocated.
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  WorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
+  this->AllocateOutputs();
+  this->VerifyBufferedRegions();
+  this->ResetStatistics();
+  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
+
+  // The components of both sides, labelled over the lines' runs.
+  const auto & size = this->GetOutput()->GetBufferedRegion().GetSize();
+  RunLabeling  labeling;
+  labeling.Initialize(
+    std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
+  ProgressTransformer encodeProgress(0.0f, 0.3f, this);
+  const DeferredFill  fill = this->EncodeRuns(team, labeling);
+  this->EndPhase(encodeProgress);
+
+  ProgressTransformer assembleProgress(0.3f, 0.35f, this);
+  labeling.AssembleRuns(team);
+  m_ExtraMemory.Hold(labeling.GetPeakMemoryInBytes());
+  this->EndPhase(assembleProgress);
+
+  ProgressTransformer numberProgress(0.35f, 0.7f, this);
+  this->LinkAndNumberComponents(team, labeling, fill);
+  this->EndPhase(numberProgress);
+
+  // The above pass, then the below pass on the image the above pass leaves.
+  ProgressTransformer aboveProgress(0.7f, 0.8f, this);
+  BelowGrouping       grouping(labeling);
+  Removal             above = this->RemoveAbove(team, labeling, grouping);
+  this->EndPhase(aboveProgress);
+
+  ProgressTransformer        groupProgress(0.8f, 0.85f, this);
+  const std::vector<uint8_t> removedBelow = this->GroupBelow(labeling, grouping, above);
+  this->EndPhase(groupProgress);
+
+  ProgressTransformer belowProgress(0.85f, 1.0f, this);
+  this->RemoveBelow(team, labeling, removedBelow);
+  belowProgress.GetProcessObject()->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyBufferedRegions()
+{
+  const auto & region = this->GetOutput()->GetBufferedRegion();
+  const auto & inputRegion = this->GetInput()->GetBufferedRegion();
+  if (inputRegion != region || this->GetRemovedMask()->GetBufferedRegion() != region)
   {
-    ProcessAborted abort(__FILE__, __LINE__);
-    abort.SetDescription("SmallIsoComponentImageFilter: aborted by the user");
-    throw abort;
+    itkExceptionMacro("The input's buffered region " << inputRegion << " differs from the output's " << region
+                                                     << "; the filter needs the whole image in one buffer.");
+  }
+  if (region.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro("The input image is empty (size " << region.GetSize() << "); it must have at least one voxel.");
   }
 }
 
 template <typename TInputImage, typename TOutputImage>
-std::function<void(SizeValueType, SizeValueType)>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComponentRunLabeling & labeling,
-                                                                    const InputImageType *         input,
-                                                                    OutputImageType *              output,
-                                                                    MaskImageType *                mask)
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ResetStatistics()
 {
-  MaskPixelType *        maskBuffer = mask->GetBufferPointer();
-  const InputPixelType * inBuffer = input->GetBufferPointer();
-  OutputPixelType *      outBuffer = output->GetBufferPointer();
+  m_AboveStatistics = SideStatistics();
+  m_BelowStatistics = SideStatistics();
+  m_NumberOfModifiedVoxels = 0;
+  m_NumberOfUnrepairableVoxels = 0;
+  m_ExtraMemory.Reset();
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ComputeEffectiveMaximumComponentSize(
+  const typename InputImageType::SpacingType & spacing) const
+{
+  if (!m_UseMaximumComponentVolume)
+  {
+    return m_MaximumComponentSize;
+  }
+  double voxelVolume = 1.0;
+  for (unsigned int a = 0; a < ImageDimension; ++a)
+  {
+    voxelVolume *= spacing[a];
+  }
+  // A relative tolerance keeps volume = k * voxel volume from rounding down to k - 1.
+  const double voxels = m_MaximumComponentVolume / voxelVolume * (1.0 + 1e-12);
+  return voxels >= static_cast<double>(NumericTraits<SizeValueType>::max())
+           ? NumericTraits<SizeValueType>::max()
+           : static_cast<SizeValueType>(std::floor(voxels));
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & team, RunLabeling & labeling)
+  -> DeferredFill
+{
+  MaskPixelType *        maskBuffer = this->GetRemovedMask()->GetBufferPointer();
+  const InputPixelType * inBuffer = this->GetInput()->GetBufferPointer();
+  OutputPixelType *      outBuffer = this->GetOutput()->GetBufferPointer();
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
   const SizeValueType    length = labeling.GetLineLength();
-  const SizeValueType    voxels = length * labeling.GetNumberOfLines();
-  const bool             stream =
-    voxels * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >= SmallIsoComponentDetail::StreamingThresholdInBytes;
-  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
-  // The output and the mask are filled block by block (whole lines, contiguous in
-  // memory) just before the block's lines are encoded.
+  const SizeValueType    lines = labeling.GetNumberOfLines();
+  const bool             stream = length * lines * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >=
+                      SmallIsoComponentDetail::StreamingThresholdInBytes;
+  const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(m_IsoValue);
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
     if (stream)
@@ -364,23 +296,17 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
       // which holds the same values, and the output and the mask are written later,
       // with streaming stores, while the components are numbered (a serial step that
       // leaves the other work units free).
-      threshold.Encode(inBuffer, labeling, this->GetMultiThreader(), [](SizeValueType, SizeValueType) {});
-      return [=](SizeValueType first, SizeValueType end) {
-        if (copy)
-        {
-          SmallIsoComponentDetail::StreamCopy(
-            outBuffer + first * length, inBuffer + first * length, (end - first) * length * sizeof(OutputPixelType));
-        }
-        SmallIsoComponentDetail::StreamZero(maskBuffer + first * length,
-                                            (end - first) * length * sizeof(MaskPixelType));
-        SmallIsoComponentDetail::StreamFence();
-      };
+      encoder.Encode(inBuffer, labeling, team);
+      return DeferredFill(
+        inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * sizeof(MaskPixelType), lines);
     }
   }
-  threshold.Encode(
+  // The output and the mask are filled block by block (whole lines, contiguous in
+  // memory) just before the block's lines are encoded.
+  encoder.Encode(
     outBuffer,
     labeling,
-    this->GetMultiThreader(),
+    team,
     [&](SizeValueType first, SizeValueType end) {
       const InputPixelType * in = inBuffer + first * length;
       OutputPixelType *      out = outBuffer + first * length;
@@ -411,429 +337,217 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(SmallIsoComp
         SmallIsoComponentDetail::StreamFence();
       }
     });
-  return nullptr;
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::Repair(
-  const SmallIsoComponentRunLabeling &                       labeling,
-  const std::vector<uint8_t> &                               removedComponent,
-  const std::vector<SmallIsoComponentRunLabeling::LineRun> & runs,
-  bool                                                       removedAreAbove,
-  MaskPixelType                                              maskValue,
-  OutputImageType *                                          output,
-  MaskImageType *                                            mask,
-  const OutputPixelType *                                    source,
-  const std::function<void(SizeValueType, SizeValueType)> &  alongside,
-  SizeValueType                                              alongsideBytes)
-{
-  using namespace SmallIsoComponentDetail;
-  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
-  const OutputPixelType fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
-
-  if (runs.empty())
-  {
-    return 0;
-  }
-
-  const auto &    size = output->GetBufferedRegion().GetSize();
-  OffsetValueType stride[ImageDimension];
-  stride[0] = 1;
-  for (unsigned int a = 1; a < ImageDimension; ++a)
-  {
-    stride[a] = stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
-  }
-  OutputPixelType * buffer = output->GetBufferPointer();
-  // The values are read from \a source, which holds the output's values before the pass.
-  const OutputPixelType * const read = source != nullptr ? source : buffer;
-  const auto                    sameSide = [&](OutputPixelType v) { return threshold.IsAbove(v) == removedAreAbove; };
-
-  // New values are computed, in chunks of runs, before any is written: walks read the
-  // values before the pass.
-  // A few removed runs are repaired by the calling thread alone: handing them to other
-  // threads costs more than it saves.
-  const SizeValueType chunks = labeling.GetNumberOfChunks(runs.size(), this->GetMultiThreader());
-  const auto          forEachChunk = [this, &labeling, chunks](auto && function) {
-    labeling.Parallelize(this->GetMultiThreader(), chunks, function);
-  };
-  const auto chunkBegin = [&](SizeValueType chunk) { return chunk * runs.size() / chunks; };
-  std::vector<std::vector<OutputPixelType>> values(chunks);
-  std::vector<SizeValueType>                unrepairable(chunks, 0);
-  const SizeValueType                       voxels = output->GetBufferedRegion().GetNumberOfPixels();
-  // The removed runs are few and far apart: each one's voxels and their neighbours along
-  // the other axes are usually not in cache. Requesting them a few runs ahead overlaps
-  // the waits.
-  using LineRun = SmallIsoComponentRunLabeling::LineRun;
-  const auto firstVoxel = [&](const LineRun & run) { return run.Line * size[0] + labeling.GetRunStart(run.Run); };
-  // Calls visit(run) for the runs of a chunk in order, and prefetch(run) for the run
-  // PrefetchDistance ahead of each.
-  const auto forEachRunOf = [&](SizeValueType chunk, auto && prefetch, auto && visit) {
-    const SizeValueType begin = chunkBegin(chunk);
-    const SizeValueType end = chunkBegin(chunk + 1);
-    for (SizeValueType i = begin; i < std::min(end, begin + PrefetchDistance); ++i)
-    {
-      prefetch(runs[i]);
-    }
-    for (SizeValueType i = begin; i < end; ++i)
-    {
-      if (i + PrefetchDistance < end)
-      {
-        prefetch(runs[i + PrefetchDistance]);
-      }
-      visit(runs[i]);
-    }
-  };
-  const auto prefetchNeighbors = [&](const LineRun & ahead) {
-    const SizeValueType first = firstVoxel(ahead);
-    Prefetch(read + first);
-    for (unsigned int a = 1; a < ImageDimension; ++a)
-    {
-      const auto step = static_cast<SizeValueType>(stride[a]);
-      if (first >= step)
-      {
-        Prefetch(read + first - step);
-      }
-      if (first + step < voxels)
-      {
-        Prefetch(read + first + step);
-      }
-    }
-  };
-  forEachChunk([&](SizeValueType chunk) {
-    const SizeValueType length = size[0];
-    auto &              chunkValues = values[chunk];
-    chunkValues.reserve(2 * (chunkBegin(chunk + 1) - chunkBegin(chunk)));
-    forEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
-      // The run's coordinates along axes 1..N-1.
-      SizeValueType coordinates[ImageDimension];
-      SizeValueType rest = removed.Line;
-      for (unsigned int a = 1; a < ImageDimension; ++a)
-      {
-        coordinates[a] = rest % size[a];
-        rest /= size[a];
-      }
-      const OutputPixelType * line = read + removed.Line * length;
-      const SizeValueType     start = labeling.GetRunStart(removed.Run);
-      const SizeValueType     end = labeling.GetRunEnd(removed.Run, removed.Line);
-      // Along axis 0 every voxel of the run meets the same two values.
-      SizeValueType left = start;
-      while (left > 0 && sameSide(line[left - 1]))
-      {
-        --left;
-      }
-      SizeValueType right = end;
-      while (right < length && sameSide(line[right]))
-      {
-        ++right;
-      }
-      double       lineSum = 0.0;
-      unsigned int lineFound = 0;
-      const auto   use = [](OutputPixelType v, double & sum, unsigned int & found) {
-        if (!IsNaN(v))
-        {
-          sum += static_cast<double>(v);
-          ++found;
-        }
-      };
-      if (left > 0)
-      {
-        use(line[left - 1], lineSum, lineFound);
-      }
-      if (right < length)
-      {
-        use(line[right], lineSum, lineFound);
-      }
-      for (const OutputPixelType * voxel = line + start; voxel < line + end; ++voxel)
-      {
-        double       sum = lineSum;
-        unsigned int found = lineFound;
-        for (unsigned int a = 1; a < ImageDimension; ++a)
-        {
-          const OffsetValueType   step = stride[a];
-          const OutputPixelType * v = voxel;
-          for (SizeValueType k = coordinates[a]; k > 0; --k)
-          {
-            v -= step;
-            if (!sameSide(*v))
-            {
-              use(*v, sum, found);
-              break;
-            }
-          }
-          v = voxel;
-          for (SizeValueType k = coordinates[a] + 1; k < size[a]; ++k)
-          {
-            v += step;
-            if (!sameSide(*v))
-            {
-              use(*v, sum, found);
-              break;
-            }
-          }
-        }
-        if (found > 0)
-        {
-          chunkValues.push_back(MeanToPixel<OutputPixelType>(sum / found));
-        }
-        else
-        {
-          chunkValues.push_back(fallback);
-          ++unrepairable[chunk];
-        }
-      }
-    });
-    if (alongside)
-    {
-      alongside(chunkBegin(chunk), chunkBegin(chunk + 1));
-    }
-  });
-
-  MaskPixelType *            maskBuffer = mask->GetBufferPointer();
-  std::vector<SizeValueType> newlyModified(chunks, 0);
-  SizeValueType              valueBytes = 0;
-  for (const auto & chunkValues : values)
-  {
-    valueBytes += chunkValues.capacity() * sizeof(OutputPixelType);
-  }
-  forEachChunk([&](SizeValueType chunk) {
-    auto value = values[chunk].cbegin();
-    forEachRunOf(
-      chunk,
-      [&](const LineRun & ahead) { Prefetch(maskBuffer + firstVoxel(ahead)); },
-      [&](const LineRun & removed) {
-        const SizeValueType first = firstVoxel(removed);
-        const SizeValueType count = labeling.GetRunEnd(removed.Run, removed.Line) - labeling.GetRunStart(removed.Run);
-        // Runs are a few voxels: plain loops, no library calls.
-        SizeValueType newly = 0;
-        for (SizeValueType i = 0; i < count; ++i)
-        {
-          buffer[first + i] = value[i];
-          newly += maskBuffer[first + i] == 0 ? 1 : 0;
-          maskBuffer[first + i] = maskValue;
-        }
-        value += count;
-        newlyModified[chunk] += newly;
-      });
-  });
-  for (const SizeValueType u : unrepairable)
-  {
-    m_NumberOfUnrepairableVoxels += u;
-  }
-  m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes,
-                                      labeling.GetMemoryInBytes() + removedComponent.capacity() +
-                                        runs.capacity() * sizeof(LineRun) + valueBytes + alongsideBytes);
-  return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
+  return DeferredFill();
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents(WorkTeam &           team,
+                                                                                 RunLabeling &        labeling,
+                                                                                 const DeferredFill & fill)
 {
-  using namespace SmallIsoComponentDetail;
-  // The parallel steps below are short: one team of threads takes them all, instead of
-  // waking the threader's pool for each. It is formed first, so that its helpers wake up
-  // while the outputs are allocated.
-  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  SmallIsoComponentWorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
-  const InputImageType *    input = this->GetInput();
-  this->AllocateOutputs();
-  OutputImageType * output = this->GetOutput();
-  MaskImageType *   mask = this->GetRemovedMask();
-
-  const auto & region = output->GetBufferedRegion();
-  if (input->GetBufferedRegion() != region || mask->GetBufferedRegion() != region)
-  {
-    itkExceptionMacro("The input's buffered region " << input->GetBufferedRegion() << " differs from the output's "
-                                                     << region << "; the filter needs the whole image in one buffer.");
-  }
-  if (region.GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro("The input image is empty (size " << region.GetSize() << "); it must have at least one voxel.");
-  }
-
-  m_EffectiveMaximumComponentSize = m_MaximumComponentSize;
-  if (m_UseMaximumComponentVolume)
-  {
-    double voxelVolume = 1.0;
-    for (unsigned int a = 0; a < ImageDimension; ++a)
-    {
-      voxelVolume *= input->GetSpacing()[a];
-    }
-    // A relative tolerance keeps volume = k * voxel volume from rounding down to k - 1.
-    const double voxels = m_MaximumComponentVolume / voxelVolume * (1.0 + 1e-12);
-    m_EffectiveMaximumComponentSize = voxels >= static_cast<double>(NumericTraits<SizeValueType>::max())
-                                        ? NumericTraits<SizeValueType>::max()
-                                        : static_cast<SizeValueType>(std::floor(voxels));
-  }
-  const SizeValueType K = m_EffectiveMaximumComponentSize;
-  m_AboveStatistics = SideStatistics();
-  m_BelowStatistics = SideStatistics();
-  m_NumberOfModifiedVoxels = 0;
-  m_NumberOfUnrepairableVoxels = 0;
-  m_PeakExtraMemoryInBytes = 0;
-
-  SmallIsoComponentRunLabeling labeling;
-  labeling.SetWorkTeam(&team);
-  std::vector<SizeValueType> extent(region.GetSize().begin(), region.GetSize().end());
-  labeling.Initialize(extent, m_FullyConnected, this->GetNumberOfWorkUnits());
-
-  // Phase 1: encode each line as runs of the two sides, copying it to the output and
-  // clearing its mask line first (large images of one pixel type leave that for phase 2).
-  const std::function<void(SizeValueType, SizeValueType)> fillLater = this->EncodeRuns(labeling, input, output, mask);
-  this->CheckAbort(0.3f);
-  labeling.AssembleRuns(this->GetMultiThreader());
-  m_PeakExtraMemoryInBytes = labeling.GetPeakMemoryInBytes();
-  this->CheckAbort(0.35f);
-
-  // Phase 2: link touching runs of each side across the slabs, then number the
-  // components. Every run of a component of at most K voxels is kept as a candidate, so
-  // that the passes below find the runs to repair without scanning all runs again.
-  const auto linkAndNumber = [&labeling, K, this] {
-    labeling.LinkRuns(this->GetMultiThreader());
-    labeling.LabelComponents(K);
+  const auto linkAndNumber = [this, &labeling] {
+    labeling.LinkRuns();
+    labeling.LabelComponents(m_EffectiveMaximumComponentSize);
   };
-  if (fillLater)
+  if (fill.IsEmpty())
+  {
+    linkAndNumber();
+  }
+  else
   {
     // Item 0 is the serial linking and numbering; the other work units meanwhile write
     // the output and the mask, block by block (the one that numbers joins them after).
-    const SizeValueType lines = labeling.GetNumberOfLines();
-    const SizeValueType lineBytes = labeling.GetLineLength() * (sizeof(OutputPixelType) + sizeof(MaskPixelType));
-    const SizeValueType linesPerBlock = std::max<SizeValueType>(1, FillBlockBytes / lineBytes);
-    const SizeValueType blocks = (lines + linesPerBlock - 1) / linesPerBlock;
-    labeling.Parallelize(this->GetMultiThreader(), 1 + blocks, [&](SizeValueType item) {
+    team.ForEach(1 + fill.GetNumberOfBlocks(), [&](SizeValueType item) {
       if (item == 0)
       {
         linkAndNumber();
       }
       else
       {
-        const SizeValueType first = (item - 1) * linesPerBlock;
-        fillLater(first, std::min(lines, first + linesPerBlock));
+        fill.FillBlock(item - 1);
       }
     });
   }
-  else
+  m_ExtraMemory.Hold(labeling.GetMemoryInBytes());
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam &          team,
+                                                                     const RunLabeling & labeling,
+                                                                     BelowGrouping &     grouping) -> Removal
+{
+  Removal above;
+  above.Removed =
+    this->DecideRemovals(SideEnum::Above, labeling.GetNumberOfComponents(), [&labeling](SizeValueType index) {
+      const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
+      return labeling.IsComponentAbove(component) ? labeling.GetComponentSize(component) : 0;
+    });
+  above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
+  // Finding the below components that the flipped ones join visits the same runs as
+  // the repair, so it is done in the repair's loop.
+  this->RepairRuns(team,
+                   labeling,
+                   above.Runs,
+                   SideEnum::Above,
+                   this->AbovePassFlips() ? &grouping : nullptr,
+                   above.Removed.capacity() + grouping.GetScratchBytes());
+  return above;
+}
+
+template <typename TInputImage, typename TOutputImage>
+std::vector<uint8_t>
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLabeling & labeling,
+                                                                    BelowGrouping &     grouping,
+                                                                    Removal &           above)
+{
+  // Without a below pass after it (Side Above) the above pass flips nothing: the below
+  // side's statistics describe the input.
+  if (!this->AbovePassFlips())
   {
-    linkAndNumber();
+    std::fill(above.Removed.begin(), above.Removed.end(), 0);
   }
-  m_PeakExtraMemoryInBytes = std::max(m_PeakExtraMemoryInBytes, labeling.GetMemoryInBytes());
-  this->CheckAbort(0.7f);
+  const BelowGrouping::Groups groups = grouping.Finish(above.Removed);
+  m_ExtraMemory.Hold(
+    labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, groups.GroupOfComponent);
+  // The flipped runs have been joined.
+  std::vector<LineRun>().swap(above.Runs);
 
-  const SmallIsoComponentThreshold<OutputPixelType> threshold(m_IsoValue);
-  const SizeValueType                               numberOfComponents = labeling.GetNumberOfComponents();
+  const std::vector<uint8_t> removedGroup = this->DecideRemovals(
+    SideEnum::Below, groups.GroupSize.size(), [&groups](SizeValueType group) { return groups.GroupSize[group]; });
+  std::vector<uint8_t> removedBelow(labeling.GetNumberOfComponents(), 0);
+  for (SizeValueType component = 0; component < removedBelow.size(); ++component)
+  {
+    const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[component];
+    removedBelow[component] = group != BelowGrouping::NoGroup && removedGroup[group];
+  }
+  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + grouping.GetScratchBytes(),
+                     above.Removed,
+                     removedBelow,
+                     removedGroup,
+                     groups.GroupOfComponent,
+                     groups.GroupSize);
+  return removedBelow;
+}
 
-  // Counts a component of a side and tells whether its pass removes it: when the side is
-  // processed, the component is small, and the output type has a value on the other side
-  // (otherwise its voxels are unrepairable).
-  const auto removes = [this, K](SideStatistics & statistics,
-                                 SizeCounter &    sizes,
-                                 SizeValueType    componentSize,
-                                 bool             sideProcessed,
-                                 bool             otherSideRepresentable) -> uint8_t {
-    ++statistics.Components;
-    sizes.Add(componentSize);
-    if (!sideProcessed || componentSize > K)
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam &                   team,
+                                                                     const RunLabeling &          labeling,
+                                                                     const std::vector<uint8_t> & removedBelow)
+{
+  // A removed group has at most K voxels, so all of its below components' runs are
+  // candidates; its flipped components' runs are candidates too.
+  const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
+  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity());
+}
+
+template <typename TInputImage, typename TOutputImage>
+template <typename TSizeOf>
+std::vector<uint8_t>
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(SideEnum      side,
+                                                                        SizeValueType entries,
+                                                                        TSizeOf &&    sizeOf)
+{
+  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
+  const bool                                                passRuns = m_Side == side || m_Side == SideEnum::Both;
+  const bool       repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
+  SideStatistics & statistics = this->StatisticsOf(side);
+  SmallIsoComponentDetail::SizeCounter sizes;
+  std::vector<uint8_t>                 removed(entries, 0);
+  for (SizeValueType i = 0; i < entries; ++i)
+  {
+    const SizeValueType size = sizeOf(i);
+    if (size == 0)
     {
-      return 0;
+      continue;
     }
-    if (!otherSideRepresentable)
+    ++statistics.Components;
+    sizes.Add(size);
+    if (!passRuns || size > m_EffectiveMaximumComponentSize)
     {
-      m_NumberOfUnrepairableVoxels += componentSize;
-      return 0;
+      continue;
+    }
+    if (!repairable)
+    {
+      m_NumberOfUnrepairableVoxels += size;
+      continue;
     }
     ++statistics.RemovedComponents;
-    statistics.RemovedVoxels += componentSize;
-    return 1;
-  };
+    statistics.RemovedVoxels += size;
+    removed[i] = 1;
+  }
+  statistics.Histogram = sizes.Histogram();
+  return removed;
+}
 
-  // Phase 3: the above pass, on the input's components.
-  std::vector<uint8_t> removedAbove(numberOfComponents, 0);
-  SizeCounter          aboveSizes;
-  for (SizeValueType c = 0; c < numberOfComponents; ++c)
+template <typename TInputImage, typename TOutputImage>
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(const RunLabeling &          labeling,
+                                                                            const std::vector<uint8_t> & removed,
+                                                                            SideEnum side) const -> std::vector<LineRun>
+{
+  // Every run of a removed component is a candidate (it has at most K voxels).
+  return this->StatisticsOf(side).RemovedComponents > 0 ? labeling.CollectCandidateRuns(removed)
+                                                        : std::vector<LineRun>();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                   team,
+                                                                    const RunLabeling &          labeling,
+                                                                    const std::vector<LineRun> & runs,
+                                                                    SideEnum                     side,
+                                                                    BelowGrouping *              joinFlipped,
+                                                                    SizeValueType                heldBytes)
+{
+  if (runs.empty())
   {
-    const auto component = static_cast<SmallIsoComponentRunLabeling::ComponentIndexType>(c);
-    if (labeling.IsComponentAbove(component))
-    {
-      removedAbove[c] = removes(m_AboveStatistics,
-                                aboveSizes,
-                                labeling.GetComponentSize(component),
-                                m_Side != SideEnum::Below,
-                                threshold.AnyBelow());
-    }
+    return;
   }
-  m_AboveStatistics.Histogram = aboveSizes.Histogram();
-  // The runs of the removed above components, also the ones that flip for the below pass.
-  std::vector<SmallIsoComponentRunLabeling::LineRun> removedAboveRuns;
-  if (m_AboveStatistics.RemovedComponents > 0)
-  {
-    removedAboveRuns = labeling.CollectCandidateRuns(removedAbove);
-  }
-  // The output holds the input's values until this pass writes: where they are the
-  // same type, the input (likely still in the caches, unlike a streamed output) is read.
-  const OutputPixelType * before = nullptr;
+  OutputImageType * output = this->GetOutput();
+  // The values before the pass are the output's. Before the above pass writes, an input
+  // of the same type holds them too, and is likely still in the caches, unlike a streamed
+  // output.
+  const OutputPixelType * valuesBeforePass = output->GetBufferPointer();
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
-    before = input->GetBufferPointer();
+    if (side == SideEnum::Above)
+    {
+      valuesBeforePass = this->GetInput()->GetBufferPointer();
+    }
   }
-  // The below pass (phase 4) with Both sees the result of this one: each removed above
-  // component joins the below components it touches. Finding those visits the same runs
-  // as this pass's repair, so it is done in the repair's loop.
-  const bool aboveWasRemoved = m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
-  SmallIsoComponentRunLabeling::FlipGrouping        grouping(labeling, removedAboveRuns);
-  const SizeValueType                               groupingBytes = grouping.GetScratchBytes();
-  std::function<void(SizeValueType, SizeValueType)> joinFlipped;
-  if (aboveWasRemoved)
-  {
-    joinFlipped = [&grouping](SizeValueType first, SizeValueType last) { grouping.JoinNeighbors(first, last); };
-  }
-  m_NumberOfModifiedVoxels +=
-    this->Repair(labeling, removedAbove, removedAboveRuns, true, 1, output, mask, before, joinFlipped, groupingBytes);
-  this->CheckAbort(0.8f);
+  SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
+    team, labeling, runs, output->GetBufferedRegion().GetSize());
+  repair.ComputeValues(valuesBeforePass,
+                       SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
+                       side == SideEnum::Above,
+                       joinFlipped);
+  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
+  m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
+  m_NumberOfModifiedVoxels += repair.WriteValues(
+    output->GetBufferPointer(), this->GetRemovedMask()->GetBufferPointer(), side == SideEnum::Above ? 1 : 2);
+}
 
-  // Phase 4: the below pass, on the groups of below components joined by the flipped ones.
-  if (!aboveWasRemoved)
+template <typename TInputImage, typename TOutputImage>
+bool
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::AbovePassFlips() const
+{
+  return m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EndPhase(ProgressTransformer & progress)
+{
+  progress.GetProcessObject()->UpdateProgress(1.0f);
+  if (this->GetAbortGenerateData())
   {
-    std::fill(removedAbove.begin(), removedAbove.end(), 0);
-    removedAboveRuns.clear();
+    ProcessAborted abort(__FILE__, __LINE__);
+    abort.SetDescription("SmallIsoComponentImageFilter: aborted by the user");
+    throw abort;
   }
-  std::vector<SmallIsoComponentRunLabeling::ComponentIndexType> groupOfComponent;
-  std::vector<SizeValueType>                                    groupSize;
-  grouping.Finish(removedAbove, groupOfComponent, groupSize);
-  m_PeakExtraMemoryInBytes =
-    std::max(m_PeakExtraMemoryInBytes,
-             labeling.GetMemoryInBytes() + removedAbove.capacity() +
-               removedAboveRuns.capacity() * sizeof(SmallIsoComponentRunLabeling::LineRun) + groupingBytes +
-               groupOfComponent.capacity() * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType));
-  std::vector<SmallIsoComponentRunLabeling::LineRun>().swap(removedAboveRuns);
-  std::vector<uint8_t> removedGroup(groupSize.size(), 0);
-  SizeCounter          belowSizes;
-  for (SizeValueType g = 0; g < groupSize.size(); ++g)
-  {
-    removedGroup[g] =
-      removes(m_BelowStatistics, belowSizes, groupSize[g], m_Side != SideEnum::Above, threshold.AnyAbove());
-  }
-  m_BelowStatistics.Histogram = belowSizes.Histogram();
-  std::vector<uint8_t> removedBelow(numberOfComponents, 0);
-  for (SizeValueType c = 0; c < numberOfComponents; ++c)
-  {
-    removedBelow[c] = groupOfComponent[c] != SmallIsoComponentRunLabeling::NoGroup && removedGroup[groupOfComponent[c]];
-  }
-  m_PeakExtraMemoryInBytes = std::max(
-    m_PeakExtraMemoryInBytes,
-    labeling.GetMemoryInBytes() + removedAbove.capacity() + removedBelow.capacity() + removedGroup.capacity() +
-      (groupOfComponent.capacity() + numberOfComponents) * sizeof(SmallIsoComponentRunLabeling::ComponentIndexType) +
-      groupSize.capacity() * sizeof(SizeValueType));
-  this->CheckAbort(0.85f);
-  std::vector<SmallIsoComponentRunLabeling::LineRun> removedBelowRuns;
-  if (m_BelowStatistics.RemovedComponents > 0)
-  {
-    // A removed group has at most K voxels, so all of its below components' runs are
-    // candidates; its flipped components' runs are candidates too.
-    removedBelowRuns = labeling.CollectCandidateRuns(removedBelow);
-  }
-  m_NumberOfModifiedVoxels += this->Repair(labeling, removedBelow, removedBelowRuns, false, 2, output, mask);
-  this->UpdateProgress(1.0f);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -856,7 +570,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream 
      << m_BelowStatistics.RemovedVoxels << std::endl;
   os << indent << "NumberOfModifiedVoxels: " << m_NumberOfModifiedVoxels << std::endl;
   os << indent << "NumberOfUnrepairableVoxels: " << m_NumberOfUnrepairableVoxels << std::endl;
-  os << indent << "PeakExtraMemoryInBytes: " << m_PeakExtraMemoryInBytes << std::endl;
+  os << indent << "PeakExtraMemoryInBytes: " << this->GetPeakExtraMemoryInBytes() << std::endl;
 }
 } // end namespace itk
 

@@ -19,7 +19,7 @@
 #define itkSmallIsoComponentRunLabeling_h
 
 #include "itkIntTypes.h"
-#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentLineNeighbors.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include <algorithm>
@@ -29,11 +29,14 @@
 
 namespace itk
 {
-/** \class SmallIsoComponentRunLabeling
+namespace SmallIsoComponentDetail
+{
+/** \class RunLabeling
  * \brief Connected components of both sides of an isovalue, computed over scanline runs.
+ * Internal to SmallIsoComponentImageFilter; the report tool's component counts
+ * (sicReportCounting.h, under apps/) are its one other user.
  *
- * This is the part of SmallIsoComponentImageFilter that does not depend on the pixel
- * type. The image is seen as lines along axis 0. Each line is split into maximal runs of
+ * The image is seen as lines along axis 0. Each line is split into maximal runs of
  * voxels on one side of the isovalue; runs alternate between the sides, so a line is
  * described by the start of each run and the side of its first run. One union-find over
  * the runs of both sides gives the components of both sides at once.
@@ -53,15 +56,12 @@ namespace itk
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT SmallIsoComponentRunLabeling
+class SmallIsoComponent_EXPORT RunLabeling
 {
 public:
   using RunIndexType = uint32_t;
   using ComponentIndexType = uint32_t;
   using CoordinateType = uint32_t;
-
-  /** Marks a component that belongs to no group in FlipGrouping::Finish(). */
-  static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
    * number of work units the work will be shared among (the lines are cut into up to
@@ -73,105 +73,6 @@ public:
   /** Slabs per work unit when there are several work units. */
   static constexpr unsigned int SlabsPerWorkUnit = 4;
 
-  /** Fewer runs than this (to repair, to group) are handled by the calling thread alone:
-   * waking the threader's pool for them costs more than it saves. */
-  static constexpr SizeValueType MinimumRunsToShare = 2048;
-  /** The same when a work team with helpers takes the loops: they are awake already. */
-  static constexpr SizeValueType MinimumRunsToShareInTeam = 256;
-
-  /** MinimumRunsToShareInTeam with a work team that has helpers, else MinimumRunsToShare. */
-  SizeValueType
-  GetMinimumRunsToShare() const
-  {
-    return m_WorkTeam != nullptr && m_WorkTeam->GetNumberOfHelpers() > 0 ? MinimumRunsToShareInTeam
-                                                                         : MinimumRunsToShare;
-  }
-
-  /** Calls function(item) once for every item in [0, items), on the threader's work units,
-   * each taking the next unhandled item when it is free: a work unit that starts late (a
-   * pool thread waking up) takes what is left instead of holding up the others. */
-  template <typename TFunction>
-  static void
-  ParallelizeDynamically(MultiThreaderBase * threader, SizeValueType items, TFunction && function)
-  {
-    const SizeValueType units = std::min<SizeValueType>(items, threader->GetNumberOfWorkUnits());
-    if (units <= 1)
-    {
-      for (SizeValueType item = 0; item < items; ++item)
-      {
-        function(item);
-      }
-      return;
-    }
-    std::atomic<SizeValueType> next{ 0 };
-    threader->ParallelizeArray(
-      0,
-      units,
-      [&](SizeValueType) {
-        for (SizeValueType item = next++; item < items; item = next++)
-        {
-          function(item);
-        }
-      },
-      nullptr);
-  }
-
-  /** Hands the parallel loops of this labeling (and of the filter's steps that use
-   * Parallelize()) to \a team instead of the threader passed to each call; nullptr (the
-   * default) goes back to the threader. The team must outlive its use here. */
-  void
-  SetWorkTeam(SmallIsoComponentWorkTeam * team)
-  {
-    m_WorkTeam = team;
-  }
-
-  /** Chunks of removed or flipped runs per work unit, when the runs are shared. */
-  static constexpr SizeValueType ChunksPerWorkUnit = 32;
-
-  /** How many chunks a loop over \a runs runs is cut into: one below
-   * GetMinimumRunsToShare(), else ChunksPerWorkUnit per work unit (at most one per run). */
-  SizeValueType
-  GetNumberOfChunks(SizeValueType runs, MultiThreaderBase * threader) const
-  {
-    return runs < this->GetMinimumRunsToShare()
-             ? 1
-             : std::min<SizeValueType>(
-                 runs, ChunksPerWorkUnit * std::max<SizeValueType>(1, this->GetNumberOfWorkUnits(threader)));
-  }
-
-  /** The work units a loop is shared among: the team's, or else the threader's. */
-  SizeValueType
-  GetNumberOfWorkUnits(MultiThreaderBase * threader) const
-  {
-    return m_WorkTeam != nullptr ? m_WorkTeam->GetNumberOfWorkUnits() : threader->GetNumberOfWorkUnits();
-  }
-
-  /** Calls function(item) once for every item in [0, items): through the work team if
-   * one is set, else as ParallelizeDynamically() does on \a threader. */
-  template <typename TFunction>
-  void
-  Parallelize(MultiThreaderBase * threader, SizeValueType items, TFunction && function) const
-  {
-    if (m_WorkTeam != nullptr)
-    {
-      m_WorkTeam->ForEach(items, function);
-    }
-    else
-    {
-      ParallelizeDynamically(threader, items, function);
-    }
-  }
-
-  /** Calls function(slab) once for every slab, as Parallelize() does. */
-  template <typename TFunction>
-  void
-  ParallelizeSlabs(MultiThreaderBase * threader, TFunction && function) const
-  {
-    this->Parallelize(threader, this->GetNumberOfSlabs(), [&function](SizeValueType slab) {
-      function(static_cast<unsigned int>(slab));
-    });
-  }
-
   SizeValueType
   GetLineLength() const
   {
@@ -182,26 +83,25 @@ public:
   {
     return m_NumberOfLines;
   }
-  unsigned int
+  SizeValueType
   GetNumberOfSlabs() const
   {
-    return static_cast<unsigned int>(m_SlabBeginLine.size() - 1);
+    return m_SlabBeginLine.size() - 1;
   }
   /** First line of a slab; GetSlabBeginLine(GetNumberOfSlabs()) is the number of lines. */
   SizeValueType
-  GetSlabBeginLine(unsigned int slab) const
+  GetSlabBeginLine(SizeValueType slab) const
   {
     return m_SlabBeginLine[slab];
   }
 
   /** \name Run encoding
-   * The pixel-type specific code encodes the lines of each slab in order, appending the
-   * start of every run to GetSlabRunStarts(slab) and calling SetLineRuns() once per
-   * line; different slabs may be encoded concurrently. AssembleRuns() then joins the
-   * slabs into one run array. */
+   * RunEncoder encodes the lines of each slab in order, appending the start of every run
+   * to GetSlabRunStarts(slab) and calling SetLineRuns() once per line; different slabs may
+   * be encoded concurrently. AssembleRuns() then joins the slabs into one run array. */
   /** @{ */
   std::vector<CoordinateType> &
-  GetSlabRunStarts(unsigned int slab)
+  GetSlabRunStarts(SizeValueType slab)
   {
     return m_SlabRunStarts[slab];
   }
@@ -211,15 +111,16 @@ public:
     m_LineRunBegin[line + 1] = numberOfRuns;
     m_LineFirstAbove[line] = firstRunIsAbove;
   }
-  /** Joins the slabs' runs into one run array and links the runs inside each slab. */
+  /** Joins the slabs' runs into one run array and links the runs inside each slab, the
+   * slabs shared among the members of \a team. */
   void
-  AssembleRuns(MultiThreaderBase * threader);
+  AssembleRuns(WorkTeam & team);
   /** @} */
 
   /** Links the runs of each side that touch under the chosen connectivity (what
    * AssembleRuns() left: the seams between slabs). */
   void
-  LinkRuns(MultiThreaderBase * threader);
+  LinkRuns();
 
   /** Numbers the components in order of their first run and sums their sizes. */
   void
@@ -231,44 +132,6 @@ public:
    * larger ones. */
   void
   LabelComponents(SizeValueType candidateSize);
-
-  SizeValueType
-  GetNumberOfRuns() const
-  {
-    return m_NumberOfRuns;
-  }
-  SizeValueType
-  GetLineRunsBegin(SizeValueType line) const
-  {
-    return m_LineRunBegin[line];
-  }
-  SizeValueType
-  GetLineRunsEnd(SizeValueType line) const
-  {
-    return m_LineRunBegin[line + 1];
-  }
-  SizeValueType
-  GetRunStart(SizeValueType run) const
-  {
-    return m_RunStart[run];
-  }
-  /** One past the run's last voxel; line is the run's line. */
-  SizeValueType
-  GetRunEnd(SizeValueType run, SizeValueType line) const
-  {
-    return run + 1 < m_LineRunBegin[line + 1] ? m_RunStart[run + 1] : m_Size[0];
-  }
-  bool
-  IsRunAbove(SizeValueType run, SizeValueType line) const
-  {
-    return (m_LineFirstAbove[line] != 0) != (((run - m_LineRunBegin[line]) & 1) != 0);
-  }
-  /** Valid after LabelComponents(). */
-  ComponentIndexType
-  GetRunComponent(SizeValueType run) const
-  {
-    return m_RunLabel[run];
-  }
 
   SizeValueType
   GetNumberOfComponents() const
@@ -293,61 +156,56 @@ public:
     RunIndexType Line;
   };
 
-  /** The below components after the above components flagged as flipped (one flag per
-   * component) have been moved below the isovalue: each flipped component joins the
-   * below components it touches, and through them other ones. Given the runs of the
-   * flipped components in run order (no run of the other components is visited; no
-   * voxel is read), JoinNeighbors() is called for every range of them (concurrently if
-   * wanted, through a lock-free union-find over components), so that the joins can share
-   * a loop with other work on the same runs; then Finish() numbers the groups. The
-   * labeling and the runs must outlive it. */
-  class SmallIsoComponent_EXPORT FlipGrouping
-  {
-  public:
-    FlipGrouping(const SmallIsoComponentRunLabeling & labeling, const std::vector<LineRun> & flippedRuns);
-    ~FlipGrouping();
-    FlipGrouping(const FlipGrouping &) = delete;
-    FlipGrouping &
-    operator=(const FlipGrouping &) = delete;
-
-    /** Joins the components of flippedRuns[first, last) with the components of the
-     * below runs they touch. Safe to call from several threads at once. */
-    void
-    JoinNeighbors(SizeValueType first, SizeValueType last);
-
-    /** After every flipped run has been joined: groupOfComponent holds the group of
-     * every below or flipped component (NoGroup for the other above components),
-     * numbered in order of their first run, and groupSize the number of voxels in each
-     * group. */
-    void
-    Finish(const std::vector<uint8_t> &      flipped,
-           std::vector<ComponentIndexType> & groupOfComponent,
-           std::vector<SizeValueType> &      groupSize);
-
-    /** Bytes of scratch held. */
-    SizeValueType
-    GetScratchBytes() const;
-
-  private:
-    ComponentIndexType
-    Find(ComponentIndexType c);
-    void
-    Join(ComponentIndexType a, ComponentIndexType b);
-
-    const SmallIsoComponentRunLabeling &               m_Labeling;
-    const std::vector<LineRun> &                       m_FlippedRuns;
-    std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
-  };
-
   /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
    * flagged in \a selected, in run order: every run of the selected components if they
    * have at most candidateSize voxels. Visits the candidates only, not every run. */
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
 
-  /** Coordinates along axes 1..N-1 of a line. */
-  void
-  LineCoordinates(SizeValueType line, std::vector<SizeValueType> & coordinates) const;
+  /** The runs, read-only, as arrays, for the loops over many runs: valid from
+   * AssembleRuns() until the next Initialize(). */
+  struct RunTable
+  {
+    /** The first voxel of each run along axis 0. */
+    const CoordinateType * Start;
+    /** The component of each run (after LabelComponents()). */
+    const ComponentIndexType * Component;
+    /** The first run of each line; LineBegin[line + 1] ends the line's runs. */
+    const SizeValueType * LineBegin;
+    /** Whether each line's first run is above (then its runs alternate). */
+    const uint8_t * LineFirstAbove;
+    SizeValueType   LineLength;
+
+    /** One past the last voxel of \a run, whose line is \a line. */
+    SizeValueType
+    End(SizeValueType run, SizeValueType line) const
+    {
+      return run + 1 < LineBegin[line + 1] ? SizeValueType{ Start[run + 1] } : LineLength;
+    }
+  };
+  RunTable
+  GetRunTable() const
+  {
+    return { m_RunStart.get(), m_RunLabel.get(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0] };
+  }
+
+  /** The image extent given to Initialize() (axis 0 along the lines). */
+  const std::vector<SizeValueType> &
+  GetSize() const
+  {
+    return m_Size;
+  }
+  bool
+  IsFullyConnected() const
+  {
+    return m_FullyConnected;
+  }
+  /** The neighbouring lines of each line under the connectivity. */
+  const SmallIsoComponentDetail::LineNeighbors &
+  GetLineNeighbors() const
+  {
+    return m_LineNeighbors;
+  }
 
   /** Bytes held now by the run, line and component arrays. */
   SizeValueType
@@ -360,34 +218,20 @@ public:
   }
 
 private:
-  /** A neighbouring line: offset along axes 1..N-1 and in line numbers, and the axes
-   * (index into the line coordinates) along which it moves, with the direction. */
-  struct LineNeighbor
-  {
-    std::vector<int>                          Delta;
-    OffsetValueType                           LineOffset;
-    std::vector<std::pair<unsigned int, int>> Moves;
-  };
-
   void
   Union(RunIndexType a, RunIndexType b);
   void
   LinkLines(SizeValueType lineA, SizeValueType lineB);
   /** Links the runs of one slab with each other. */
   void
-  LinkInsideSlab(unsigned int slab);
-  void
-  NextLineCoordinates(std::vector<SizeValueType> & coordinates) const;
-  bool
-  NeighborInside(const std::vector<SizeValueType> & coordinates, const LineNeighbor & neighbor) const;
+  LinkInsideSlab(SizeValueType slab);
 
-  std::vector<SizeValueType> m_Size;
-  SizeValueType              m_NumberOfLines{ 0 };
-  bool                       m_FullyConnected{ false };
-  std::vector<SizeValueType> m_SlabBeginLine;
-  /** Neighbours at a lower line number (each pair of lines is linked once) and all. */
-  std::vector<LineNeighbor> m_BackwardNeighbors;
-  std::vector<LineNeighbor> m_AllNeighbors;
+
+  std::vector<SizeValueType>             m_Size;
+  SizeValueType                          m_NumberOfLines{ 0 };
+  bool                                   m_FullyConnected{ false };
+  std::vector<SizeValueType>             m_SlabBeginLine;
+  SmallIsoComponentDetail::LineNeighbors m_LineNeighbors;
 
   std::vector<std::vector<CoordinateType>> m_SlabRunStarts;
   SizeValueType                            m_NumberOfRuns{ 0 };
@@ -401,8 +245,8 @@ private:
   std::vector<uint8_t>              m_ComponentAbove;
   std::vector<LineRun>              m_CandidateRuns;
   SizeValueType                     m_PeakMemoryInBytes{ 0 };
-  SmallIsoComponentWorkTeam *       m_WorkTeam{ nullptr };
 };
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #endif

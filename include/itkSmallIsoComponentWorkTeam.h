@@ -22,17 +22,21 @@
 #include "itkMultiThreaderBase.h"
 #include "SmallIsoComponentExport.h"
 
+#include <algorithm>
 #include <memory>
 #include <type_traits>
 #include <utility>
 
 namespace itk
 {
-/** \class SmallIsoComponentWorkTeam
+namespace SmallIsoComponentDetail
+{
+/** \class WorkTeam
  * \brief Threads that stay with one filter update and take its parallel loops one after
- * another.
+ * another. Internal to SmallIsoComponentImageFilter.
  *
- * A filter update runs several short parallel loops with serial steps between them.
+ * It schedules every parallel loop of an update. A filter update runs several short
+ * parallel loops with serial steps between them.
  * Handing each loop to the threader wakes its pool threads each time, which costs tens
  * of microseconds per loop on small volumes. A team asks ITK's thread pool once for its
  * helper threads (when the threader is a PoolMultiThreader); they stay for the life of the
@@ -54,17 +58,17 @@ namespace itk
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT SmallIsoComponentWorkTeam
+class SmallIsoComponent_EXPORT WorkTeam
 {
 public:
   /** A team for \a workUnits work units of \a threader: workUnits - 1 helpers at most,
    * fewer if the pool has fewer threads or the machine fewer other cores. */
-  SmallIsoComponentWorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
+  WorkTeam(MultiThreaderBase * threader, unsigned int workUnits);
   /** Dismisses the helpers and waits for the ones that started to leave. */
-  ~SmallIsoComponentWorkTeam();
-  SmallIsoComponentWorkTeam(const SmallIsoComponentWorkTeam &) = delete;
-  SmallIsoComponentWorkTeam &
-  operator=(const SmallIsoComponentWorkTeam &) = delete;
+  ~WorkTeam();
+  WorkTeam(const WorkTeam &) = delete;
+  WorkTeam &
+  operator=(const WorkTeam &) = delete;
 
   /** The work units a loop is shared among: the calling thread and the helpers asked
    * for, or the threader's work units when the team has no helpers. */
@@ -79,6 +83,24 @@ public:
   GetNumberOfHelpers() const
   {
     return m_NumberOfHelpers;
+  }
+
+  /** Loops over fewer cheap items than this (runs to repair or to group) are run by the
+   * calling thread alone: waking the threader's pool for them costs more than it saves. */
+  static constexpr SizeValueType MinimumItemsToShare = 2048;
+  /** The same when the team has helpers: they are awake already. */
+  static constexpr SizeValueType MinimumItemsToShareWithHelpers = 256;
+  /** Chunks per work unit when a loop over cheap items is shared. */
+  static constexpr SizeValueType ChunksPerWorkUnit = 32;
+
+  /** How many chunks a loop over \a items cheap items is cut into, for ForEach(): one
+   * below the minimum to share, else ChunksPerWorkUnit per work unit (at most one per
+   * item). */
+  SizeValueType
+  GetNumberOfChunks(SizeValueType items) const
+  {
+    const SizeValueType minimum = m_NumberOfHelpers > 0 ? MinimumItemsToShareWithHelpers : MinimumItemsToShare;
+    return items < minimum ? 1 : std::min<SizeValueType>(items, ChunksPerWorkUnit * m_NumberOfWorkUnits);
   }
 
   /** Calls function(item) once for every item in [0, items), each item taken by the
@@ -120,6 +142,7 @@ private:
   bool                   m_FirstLoopEnded{ false };
   std::shared_ptr<State> m_State;
 };
+} // namespace SmallIsoComponentDetail
 } // end namespace itk
 
 #endif

@@ -6,31 +6,8 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${SMALLISO_BUILD_DIR:-$root/build}
 
-packages=(
-  build-essential cmake ninja-build pkg-config
-  libinsighttoolkit5-dev  # ITK 5.2.1
-  libgtest-dev            # GoogleTest
-  python3                 # test helpers (XML and JSON checks)
-  clang-format            # the format check of scripts/test.sh
-  gnuplot-nox             # SmallIsoComponentReport --plot
-  libvtk9-dev libx11-dev  # isosurfaces, piece counts and --render (optional for the module)
-  xvfb libgl1-mesa-dri    # off-screen rendering on a machine without a display
-)
-
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing missing Debian packages: ${missing[*]}"
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then
-    command -v sudo >/dev/null || { echo "setup: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
-    sudo=sudo
-  fi
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+source "$root/scripts/packages.sh"
+smalliso_install_missing "${smalliso_packages[@]}"
 
 echo "setup: configuring and building in $build"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON >"$build.configure.log" 2>&1 || {

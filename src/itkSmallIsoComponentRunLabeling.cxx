@@ -24,24 +24,10 @@
 
 namespace itk
 {
-namespace
+namespace SmallIsoComponentDetail
 {
-/** Asks for the cache line at \a address ahead of its use; a hint only. */
-inline void
-PrefetchLine(const void * address)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(address);
-#else
-  (void)address;
-#endif
-}
-} // namespace
-
 void
-SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size,
-                                         bool                               fullyConnected,
-                                         unsigned int                       maximumNumberOfSlabs)
+RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConnected, unsigned int maximumNumberOfSlabs)
 {
   if (size.empty() || size[0] == 0 || size[0] > NumericTraits<CoordinateType>::max())
   {
@@ -64,53 +50,12 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
     maximumNumberOfSlabs > 1 ? SizeValueType{ maximumNumberOfSlabs } * SlabsPerWorkUnit : SizeValueType{ 1 };
   const SizeValueType slabs = std::max<SizeValueType>(1, std::min<SizeValueType>(wanted, planes));
   m_SlabBeginLine.resize(slabs + 1);
-  for (SizeValueType s = 0; s <= slabs; ++s)
+  for (SizeValueType slab = 0; slab <= slabs; ++slab)
   {
-    m_SlabBeginLine[s] = (s * planes / slabs) * linesPerPlane;
+    m_SlabBeginLine[slab] = (slab * planes / slabs) * linesPerPlane;
   }
 
-  // Neighbouring lines: face connectivity moves along one axis, full connectivity along
-  // any combination of axes 1..N-1 (axis 0 diagonals are handled by a one-voxel overlap).
-  m_BackwardNeighbors.clear();
-  m_AllNeighbors.clear();
-  const unsigned int otherAxes = dimension - 1;
-  SizeValueType      combinations = 1;
-  for (unsigned int a = 0; a < otherAxes; ++a)
-  {
-    combinations *= 3;
-  }
-  for (SizeValueType code = 0; code < combinations; ++code)
-  {
-    LineNeighbor    neighbor;
-    SizeValueType   rest = code;
-    unsigned int    nonZero = 0;
-    int             highestNonZero = 0;
-    OffsetValueType stride = 1;
-    neighbor.LineOffset = 0;
-    for (unsigned int a = 0; a < otherAxes; ++a)
-    {
-      const int d = static_cast<int>(rest % 3) - 1;
-      rest /= 3;
-      neighbor.Delta.push_back(d);
-      neighbor.LineOffset += d * stride;
-      stride *= static_cast<OffsetValueType>(size[a + 1]);
-      if (d != 0)
-      {
-        ++nonZero;
-        highestNonZero = d;
-        neighbor.Moves.emplace_back(a, d);
-      }
-    }
-    if (nonZero == 0 || (!fullyConnected && nonZero > 1))
-    {
-      continue;
-    }
-    m_AllNeighbors.push_back(neighbor);
-    if (highestNonZero < 0)
-    {
-      m_BackwardNeighbors.push_back(neighbor);
-    }
-  }
+  m_LineNeighbors = LineNeighbors(size, fullyConnected);
 
   m_SlabRunStarts.assign(slabs, {});
   m_NumberOfRuns = 0;
@@ -125,7 +70,7 @@ SmallIsoComponentRunLabeling::Initialize(const std::vector<SizeValueType> & size
 }
 
 void
-SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
+RunLabeling::AssembleRuns(WorkTeam & team)
 {
   // SetLineRuns() stored counts one place to the right; make them offsets.
   std::partial_sum(m_LineRunBegin.begin(), m_LineRunBegin.end(), m_LineRunBegin.begin());
@@ -140,7 +85,7 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
   m_RunStart.reset(new CoordinateType[numberOfRuns]);
   m_RunLabel.reset(new RunIndexType[numberOfRuns]);
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
-  this->ParallelizeSlabs(threader, [this](unsigned int slab) {
+  team.ForEach(this->GetNumberOfSlabs(), [this](SizeValueType slab) {
     const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
     std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
     std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
@@ -152,7 +97,7 @@ SmallIsoComponentRunLabeling::AssembleRuns(MultiThreaderBase * threader)
 }
 
 inline void
-SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
+RunLabeling::Union(RunIndexType a, RunIndexType b)
 {
   // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
   // the one with the larger parent and re-pointing it to the smaller parent on the way.
@@ -186,7 +131,7 @@ SmallIsoComponentRunLabeling::Union(RunIndexType a, RunIndexType b)
 }
 
 inline void
-SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
+RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
 {
   auto       a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
   const auto aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
@@ -249,157 +194,54 @@ SmallIsoComponentRunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB
 }
 
 void
-SmallIsoComponentRunLabeling::LineCoordinates(SizeValueType line, std::vector<SizeValueType> & coordinates) const
+RunLabeling::LinkInsideSlab(SizeValueType slab)
 {
-  coordinates.resize(m_Size.size() - 1);
-  for (unsigned int a = 0; a + 1 < m_Size.size(); ++a)
+  const SizeValueType begin = m_SlabBeginLine[slab];
+  const SizeValueType end = m_SlabBeginLine[slab + 1];
+  auto                position = m_LineNeighbors.At(begin);
+  for (SizeValueType line = begin; line < end; ++line, m_LineNeighbors.Next(position))
   {
-    coordinates[a] = line % m_Size[a + 1];
-    line /= m_Size[a + 1];
+    // The earlier lines before the slab are its seam, linked by LinkRuns().
+    m_LineNeighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+      if (earlier >= begin)
+      {
+        this->LinkLines(line, earlier);
+      }
+    });
   }
 }
 
 void
-SmallIsoComponentRunLabeling::NextLineCoordinates(std::vector<SizeValueType> & coordinates) const
+RunLabeling::LinkRuns()
 {
-  for (unsigned int a = 0; a < coordinates.size(); ++a)
-  {
-    if (++coordinates[a] < m_Size[a + 1])
-    {
-      return;
-    }
-    coordinates[a] = 0;
-  }
-}
-
-bool
-SmallIsoComponentRunLabeling::NeighborInside(const std::vector<SizeValueType> & coordinates,
-                                             const LineNeighbor &               neighbor) const
-{
-  for (const auto & move : neighbor.Moves)
-  {
-    if (move.second < 0 ? coordinates[move.first] == 0 : coordinates[move.first] + 1 >= m_Size[move.first + 1])
-    {
-      return false;
-    }
-  }
-  return true;
-}
-
-void
-SmallIsoComponentRunLabeling::LinkInsideSlab(unsigned int slab)
-{
-  if (m_Size.size() < 2)
-  {
-    return;
-  }
-  std::vector<SizeValueType> coordinates;
-  const SizeValueType        begin = m_SlabBeginLine[slab];
-  const SizeValueType        end = m_SlabBeginLine[slab + 1];
-  this->LineCoordinates(begin, coordinates);
-  if (!m_FullyConnected)
-  {
-    // Face connectivity: one backward neighbour per axis 1..N-1, inside the image when the
-    // line's coordinate along that axis is not 0.
-    const auto axes = static_cast<unsigned int>(coordinates.size());
-    if (axes == 2)
-    {
-      // 3-D: the line before along y, and the line one plane before along z.
-      const SizeValueType rows = m_Size[1];
-      const SizeValueType plane = rows;
-      SizeValueType       y = coordinates[0];
-      bool                zInside = coordinates[1] > 0;
-      for (SizeValueType line = begin; line < end; ++line)
-      {
-        if (y > 0)
-        {
-          this->LinkLines(line, line - 1);
-        }
-        if (zInside && line - begin >= plane)
-        {
-          this->LinkLines(line, line - plane);
-        }
-        if (++y == rows)
-        {
-          y = 0;
-          zInside = true;
-        }
-      }
-      return;
-    }
-    std::vector<SizeValueType> stride(axes, 1);
-    for (unsigned int a = 1; a < axes; ++a)
-    {
-      stride[a] = stride[a - 1] * m_Size[a];
-    }
-    for (SizeValueType line = begin; line < end; ++line)
-    {
-      for (unsigned int a = 0; a < axes; ++a)
-      {
-        if (coordinates[a] > 0 && line - begin >= stride[a])
-        {
-          this->LinkLines(line, line - stride[a]);
-        }
-      }
-      for (unsigned int a = 0; a < axes && ++coordinates[a] == m_Size[a + 1]; ++a)
-      {
-        coordinates[a] = 0;
-      }
-    }
-    return;
-  }
-  for (SizeValueType line = begin; line < end; ++line, this->NextLineCoordinates(coordinates))
-  {
-    for (const auto & neighbor : m_BackwardNeighbors)
-    {
-      // Backward neighbours have lower line numbers; the ones before the slab are seams.
-      const auto back = static_cast<SizeValueType>(-neighbor.LineOffset);
-      if (line - begin >= back && this->NeighborInside(coordinates, neighbor))
-      {
-        this->LinkLines(line, line - back);
-      }
-    }
-  }
-}
-
-void
-SmallIsoComponentRunLabeling::LinkRuns(MultiThreaderBase *)
-{
-  if (m_Size.size() < 2)
-  {
-    return;
-  }
   // AssembleRuns() linked the runs inside each slab. The seams: the first plane of each
   // slab with the planes before it.
-  std::vector<SizeValueType> coordinates;
-  const SizeValueType        linesPerPlane = m_NumberOfLines / m_Size.back();
-  for (unsigned int slab = 1; slab < this->GetNumberOfSlabs(); ++slab)
+  const SizeValueType linesPerPlane = m_NumberOfLines / m_Size.back();
+  for (SizeValueType slab = 1; slab < this->GetNumberOfSlabs(); ++slab)
   {
     const SizeValueType begin = m_SlabBeginLine[slab];
-    this->LineCoordinates(begin, coordinates);
-    for (SizeValueType line = begin; line < begin + linesPerPlane; ++line, this->NextLineCoordinates(coordinates))
+    auto                position = m_LineNeighbors.At(begin);
+    for (SizeValueType line = begin; line < begin + linesPerPlane; ++line, m_LineNeighbors.Next(position))
     {
-      for (const auto & neighbor : m_BackwardNeighbors)
-      {
-        const auto back = static_cast<SizeValueType>(-neighbor.LineOffset);
-        if (line - begin < back && this->NeighborInside(coordinates, neighbor))
+      m_LineNeighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+        if (earlier < begin)
         {
-          this->LinkLines(line, line - back);
+          this->LinkLines(line, earlier);
         }
-      }
+      });
     }
   }
 }
 
 void
-SmallIsoComponentRunLabeling::LabelComponents()
+RunLabeling::LabelComponents()
 {
   // Every run has at least one voxel: no run is a candidate.
   this->LabelComponents(0);
 }
 
 void
-SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
+RunLabeling::LabelComponents(SizeValueType candidateSize)
 {
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
@@ -450,7 +292,7 @@ SmallIsoComponentRunLabeling::LabelComponents(SizeValueType candidateSize)
 }
 
 auto
-SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
+RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
 {
   std::vector<LineRun> runs;
   for (const LineRun & candidate : m_CandidateRuns)
@@ -463,253 +305,8 @@ SmallIsoComponentRunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & 
   return runs;
 }
 
-// A union-find over components that work units share without locks: a root is linked
-// under another root by compare-and-swap, always the larger index under the smaller, so
-// every root is the smallest component of its group whatever the order of the links;
-// path halving only ever replaces a parent by one of its ancestors.
-SmallIsoComponentRunLabeling::FlipGrouping::FlipGrouping(const SmallIsoComponentRunLabeling & labeling,
-                                                         const std::vector<LineRun> &         flippedRuns)
-  : m_Labeling(labeling)
-  , m_FlippedRuns(flippedRuns)
-  , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
-{
-  for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
-  {
-    m_Parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
-  }
-}
-
-SmallIsoComponentRunLabeling::FlipGrouping::~FlipGrouping() = default;
-
 SizeValueType
-SmallIsoComponentRunLabeling::FlipGrouping::GetScratchBytes() const
-{
-  return m_Labeling.GetNumberOfComponents() * sizeof(std::atomic<ComponentIndexType>);
-}
-
-inline auto
-SmallIsoComponentRunLabeling::FlipGrouping::Find(ComponentIndexType c) -> ComponentIndexType
-{
-  while (true)
-  {
-    const ComponentIndexType p = m_Parent[c].load(std::memory_order_relaxed);
-    if (p == c)
-    {
-      return c;
-    }
-    const ComponentIndexType grandparent = m_Parent[p].load(std::memory_order_relaxed);
-    if (grandparent != p)
-    {
-      m_Parent[c].store(grandparent, std::memory_order_relaxed);
-    }
-    c = grandparent;
-  }
-}
-
-inline void
-SmallIsoComponentRunLabeling::FlipGrouping::Join(ComponentIndexType a, ComponentIndexType b)
-{
-  while (true)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a == b)
-    {
-      return;
-    }
-    if (a < b)
-    {
-      std::swap(a, b);
-    }
-    ComponentIndexType expected = a;
-    if (m_Parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
-    {
-      return;
-    }
-  }
-}
-
-void
-SmallIsoComponentRunLabeling::FlipGrouping::JoinNeighbors(SizeValueType first, SizeValueType last)
-{
-  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
-  // those are below) and the below runs it overlaps in the neighbouring lines; its
-  // component joins theirs. A repeat of the previous pair is skipped.
-  const SmallIsoComponentRunLabeling & l = m_Labeling;
-  const std::vector<LineRun> &         flippedRuns = m_FlippedRuns;
-  const SizeValueType                  allowance = l.m_FullyConnected ? 1 : 0;
-  const RunIndexType * const           label = l.m_RunLabel.get();
-  const CoordinateType * const         runStart = l.m_RunStart.get();
-  const SizeValueType * const          lineRunBegin = l.m_LineRunBegin.data();
-  const uint8_t * const                lineFirstAbove = l.m_LineFirstAbove.data();
-  std::vector<SizeValueType>           coordinates;
-  SizeValueType                        coordinatesLine = NumericTraits<SizeValueType>::max();
-  ComponentIndexType                   lastA = NoGroup;
-  ComponentIndexType                   lastB = NoGroup;
-  const auto                           add = [&](ComponentIndexType a, ComponentIndexType b) {
-    if (a != lastA || b != lastB)
-    {
-      lastA = a;
-      lastB = b;
-      this->Join(a, b);
-    }
-  };
-  // The below runs of line \a other that overlap [from, to). The run that holds from
-  // (the last one starting at or before it; the line's first run starts at 0) is found
-  // by a binary search without branches, which the run starts would make unpredictable.
-  const auto joinOverlapping =
-    [&](ComponentIndexType component, SizeValueType other, SizeValueType from, SizeValueType to) {
-      const SizeValueType    otherBegin = lineRunBegin[other];
-      const SizeValueType    otherEnd = lineRunBegin[other + 1];
-      const CoordinateType * holder = runStart + otherBegin;
-      for (SizeValueType n = otherEnd - otherBegin; n > 1;)
-      {
-        const SizeValueType half = n / 2;
-        holder = holder[half] <= from ? holder + half : holder;
-        n -= half;
-      }
-      // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
-      // every other run from the holder if it is below, else from the run after it.
-      SizeValueType k = static_cast<SizeValueType>(holder - runStart);
-      k += (lineFirstAbove[other] != 0) != (((k - otherBegin) & 1) != 0) ? 1 : 0;
-      for (; k < otherEnd && runStart[k] < to; k += 2)
-      {
-        add(component, label[k]);
-      }
-    };
-  const bool          faceConnected3D = !l.m_FullyConnected && l.m_Size.size() == 3;
-  const SizeValueType plane = l.m_Size.size() > 1 ? l.m_Size[1] : 1;
-  // The neighbouring lines of the runs ahead are requested early: first where their runs
-  // begin, then (a few runs later, once that has arrived) their runs.
-  const auto prefetchLines = [&](SizeValueType ahead) {
-    const SizeValueType line = flippedRuns[ahead].Line;
-    PrefetchLine(lineRunBegin + line);
-    PrefetchLine(lineFirstAbove + line);
-    if (line >= plane)
-    {
-      PrefetchLine(lineRunBegin + line - plane);
-      PrefetchLine(lineFirstAbove + line - plane);
-    }
-    if (line + plane < l.m_NumberOfLines)
-    {
-      PrefetchLine(lineRunBegin + line + plane);
-      PrefetchLine(lineFirstAbove + line + plane);
-    }
-  };
-  const auto prefetchRuns = [&](SizeValueType ahead) {
-    const SizeValueType line = flippedRuns[ahead].Line;
-    const auto          runsOf = [&](SizeValueType other) {
-      const SizeValueType begin = lineRunBegin[other];
-      PrefetchLine(runStart + begin);
-      PrefetchLine(label + begin);
-    };
-    runsOf(line);
-    if (line >= plane)
-    {
-      runsOf(line - plane);
-    }
-    if (line + plane < l.m_NumberOfLines)
-    {
-      runsOf(line + plane);
-    }
-  };
-  for (SizeValueType i = first; i < last; ++i)
-  {
-    if (i + 16 < last)
-    {
-      prefetchLines(i + 16);
-    }
-    if (i + 8 < last)
-    {
-      prefetchRuns(i + 8);
-    }
-    const SizeValueType      run = flippedRuns[i].Run;
-    const SizeValueType      line = flippedRuns[i].Line;
-    const ComponentIndexType component = label[run];
-    const SizeValueType      lineBegin = lineRunBegin[line];
-    const SizeValueType      lineEnd = lineRunBegin[line + 1];
-    if (run > lineBegin)
-    {
-      add(component, label[run - 1]);
-    }
-    if (run + 1 < lineEnd)
-    {
-      add(component, label[run + 1]);
-    }
-    const SizeValueType start = runStart[run];
-    const SizeValueType end = run + 1 < lineEnd ? SizeValueType{ runStart[run + 1] } : l.m_Size[0];
-    if (faceConnected3D)
-    {
-      // The common case, without the general neighbour tables: the lines before and
-      // after along y and along z.
-      const SizeValueType rows = l.m_Size[1];
-      const SizeValueType y = line % rows;
-      const SizeValueType z = line / rows;
-      if (y > 0)
-      {
-        joinOverlapping(component, line - 1, start, end);
-      }
-      if (y + 1 < rows)
-      {
-        joinOverlapping(component, line + 1, start, end);
-      }
-      if (z > 0)
-      {
-        joinOverlapping(component, line - rows, start, end);
-      }
-      if (z + 1 < l.m_Size[2])
-      {
-        joinOverlapping(component, line + rows, start, end);
-      }
-      continue;
-    }
-    if (line != coordinatesLine)
-    {
-      l.LineCoordinates(line, coordinates);
-      coordinatesLine = line;
-    }
-    // With full connectivity a run also touches the runs that end just before it or
-    // start just after it in the neighbouring lines.
-    const SizeValueType from = start >= allowance ? start - allowance : 0;
-    for (const LineNeighbor & neighbor : l.m_AllNeighbors)
-    {
-      if (l.NeighborInside(coordinates, neighbor))
-      {
-        joinOverlapping(component, line + neighbor.LineOffset, from, end + allowance);
-      }
-    }
-  }
-}
-
-void
-SmallIsoComponentRunLabeling::FlipGrouping::Finish(const std::vector<uint8_t> &      flipped,
-                                                   std::vector<ComponentIndexType> & groupOfComponent,
-                                                   std::vector<SizeValueType> &      groupSize)
-{
-  const SmallIsoComponentRunLabeling & l = m_Labeling;
-  const SizeValueType                  numberOfComponents = l.GetNumberOfComponents();
-  groupOfComponent.assign(numberOfComponents, NoGroup);
-  groupSize.clear();
-  for (SizeValueType c = 0; c < numberOfComponents; ++c)
-  {
-    if (l.m_ComponentAbove[c] && !flipped[c])
-    {
-      continue;
-    }
-    const ComponentIndexType root = this->Find(static_cast<ComponentIndexType>(c));
-    // Roots are the smallest member, so a root's group is numbered before its members.
-    if (groupOfComponent[root] == NoGroup)
-    {
-      groupOfComponent[root] = static_cast<ComponentIndexType>(groupSize.size());
-      groupSize.push_back(0);
-    }
-    groupOfComponent[c] = groupOfComponent[root];
-    groupSize[groupOfComponent[c]] += l.m_ComponentSize[c];
-  }
-}
-
-SizeValueType
-SmallIsoComponentRunLabeling::GetMemoryInBytes() const
+RunLabeling::GetMemoryInBytes() const
 {
   SizeValueType bytes = m_NumberOfRuns * (sizeof(CoordinateType) + sizeof(RunIndexType)) +
                         m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
@@ -721,4 +318,5 @@ SmallIsoComponentRunLabeling::GetMemoryInBytes() const
   }
   return bytes;
 }
+} // namespace SmallIsoComponentDetail
 } // end namespace itk

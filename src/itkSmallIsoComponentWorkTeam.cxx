@@ -37,6 +37,8 @@
 
 namespace itk
 {
+namespace SmallIsoComponentDetail
+{
 namespace
 {
 using Clock = std::chrono::steady_clock;
@@ -103,7 +105,7 @@ struct Job
 };
 } // namespace
 
-struct SmallIsoComponentWorkTeam::State
+struct WorkTeam::State
 {
   std::mutex              Mutex;
   std::condition_variable Wake;
@@ -169,7 +171,7 @@ struct SmallIsoComponentWorkTeam::State
   }
 };
 
-SmallIsoComponentWorkTeam::SmallIsoComponentWorkTeam(MultiThreaderBase * threader, unsigned int workUnits)
+WorkTeam::WorkTeam(MultiThreaderBase * threader, unsigned int workUnits)
   : m_Threader(threader)
   , m_NumberOfWorkUnits(std::max(1u, workUnits))
 {
@@ -196,7 +198,7 @@ SmallIsoComponentWorkTeam::SmallIsoComponentWorkTeam(MultiThreaderBase * threade
   }
 }
 
-SmallIsoComponentWorkTeam::~SmallIsoComponentWorkTeam()
+WorkTeam::~WorkTeam()
 {
   if (!m_State)
   {
@@ -210,7 +212,7 @@ SmallIsoComponentWorkTeam::~SmallIsoComponentWorkTeam()
 }
 
 void
-SmallIsoComponentWorkTeam::Run(SizeValueType items, CallType call, void * context)
+WorkTeam::Run(SizeValueType items, CallType call, void * context)
 {
   Job job;
   job.Items = items;
@@ -254,4 +256,5 @@ SmallIsoComponentWorkTeam::Run(SizeValueType items, CallType call, void * contex
     std::rethrow_exception(job.Error);
   }
 }
+} // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -111,9 +111,9 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
     settings.Side = SideEnum::Both;
     settings.FullyConnected = fullyConnected;
     const auto expected = Reference::Run<uint8_t>(input.GetPointer(), settings);
-    ASSERT_GT(expected.Above.RemovedComponents, 4 * itk::SmallIsoComponentRunLabeling::MinimumRunsToShare)
+    ASSERT_GT(expected.Above.RemovedComponents, 4 * itk::SmallIsoComponentDetail::WorkTeam::MinimumItemsToShare)
       << "the volume no longer exercises a shared repair";
-    ASSERT_GT(expected.Below.RemovedComponents, 4 * itk::SmallIsoComponentRunLabeling::MinimumRunsToShare);
+    ASSERT_GT(expected.Below.RemovedComponents, 4 * itk::SmallIsoComponentDetail::WorkTeam::MinimumItemsToShare);
     for (const unsigned int workUnits : { 1u, 2u, 7u })
     {
       const auto filter = RunFilter<ImageType>(input, settings, workUnits);

@@ -40,7 +40,7 @@
 
 namespace
 {
-using Team = itk::SmallIsoComponentWorkTeam;
+using Team = itk::SmallIsoComponentDetail::WorkTeam;
 
 /** Runs loops of random sizes and checks that each visits every item exactly once. */
 void
@@ -316,4 +316,30 @@ TEST(SmallIsoComponentWorkTeam, OtherThreadersTakeTheLoops)
                               }
                             }),
                std::runtime_error);
+}
+
+TEST(SmallIsoComponentWorkTeam, CheapLoopsAreSharedFromFewerItemsWhenHelpersAreAwake)
+{
+  // Without helpers a loop of cheap items stays on the calling thread below 2048 items;
+  // from there it is cut into 32 chunks per work unit, at most one per item.
+  auto platform = itk::PlatformMultiThreader::New();
+  platform->SetNumberOfWorkUnits(3);
+  const Team withoutHelpers(platform, 3);
+  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(0), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(Team::MinimumItemsToShare - 1), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(Team::MinimumItemsToShare), 3 * Team::ChunksPerWorkUnit);
+  const Team alone(platform, 1);
+  EXPECT_EQ(alone.GetNumberOfChunks(Team::MinimumItemsToShare), Team::ChunksPerWorkUnit);
+
+  // Helpers are awake already: loops are shared from 256 items.
+  auto       pool = PoolThreader(2);
+  const Team withHelpers(pool, 2);
+  if (withHelpers.GetNumberOfHelpers() == 0)
+  {
+    GTEST_SKIP() << "one core: the team has no helpers";
+  }
+  EXPECT_EQ(withHelpers.GetNumberOfChunks(Team::MinimumItemsToShareWithHelpers - 1), 1u);
+  EXPECT_EQ(withHelpers.GetNumberOfChunks(Team::MinimumItemsToShareWithHelpers),
+            std::min<itk::SizeValueType>(Team::MinimumItemsToShareWithHelpers, 2 * Team::ChunksPerWorkUnit));
+  EXPECT_EQ(withHelpers.GetNumberOfChunks(40), 1u);
 }

@@ -21,6 +21,7 @@
 #include "sicReportTable.h"
 
 #include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
 
@@ -109,8 +110,8 @@ public:
   itk::SizeValueType
   Count(double isoValue) const
   {
-    const itk::SmallIsoComponentThreshold<TPixel> threshold(isoValue);
-    const auto                                    below = [&](TPixel value) { return !threshold.IsAbove(value); };
+    const itk::SmallIsoComponentDetail::Threshold<TPixel> threshold(isoValue);
+    const auto below = [&](TPixel value) { return !threshold.IsAbove(value); };
     const auto minimaBelow = std::partition_point(m_Minima.begin(), m_Minima.end(), below) - m_Minima.begin();
     const auto maximaBelow = std::partition_point(m_Maxima.begin(), m_Maxima.end(), below) - m_Maxima.begin();
     return static_cast<itk::SizeValueType>(minimaBelow - maximaBelow);
@@ -157,7 +158,11 @@ private:
 
 /** Labels the components of both sides of \a isoValue in \a buffer (an image of extent
  * \a size, axis 0 fastest) with the module's run labelling, and histograms their sizes up
- * to \a largestSize. */
+ * to \a largestSize.
+ *
+ * The run labelling is internal to SmallIsoComponentImageFilter; this is its one user
+ * outside the filter. Counting for many isovalues needs only the labelling: the filter
+ * would also copy the image to its output and clear a mask for every isovalue. */
 template <typename TPixel>
 void
 LabelSides(const TPixel *                          buffer,
@@ -169,12 +174,12 @@ LabelSides(const TPixel *                          buffer,
            SideHistogram &                         above,
            SideHistogram &                         below)
 {
-  itk::SmallIsoComponentRunLabeling labeling;
+  itk::SmallIsoComponentDetail::WorkTeam    team(threader, threader->GetNumberOfWorkUnits());
+  itk::SmallIsoComponentDetail::RunLabeling labeling;
   labeling.Initialize(size, fullyConnected, threader->GetNumberOfWorkUnits());
-  itk::SmallIsoComponentThreshold<TPixel>(isoValue).Encode(
-    buffer, labeling, threader, [](itk::SizeValueType, itk::SizeValueType) {});
-  labeling.AssembleRuns(threader);
-  labeling.LinkRuns(threader);
+  itk::SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(buffer, labeling, team);
+  labeling.AssembleRuns(team);
+  labeling.LinkRuns();
   labeling.LabelComponents();
 
   above = SideHistogram();
@@ -183,7 +188,7 @@ LabelSides(const TPixel *                          buffer,
   below.CountOfSize.assign(largestSize + 1, 0);
   for (itk::SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
   {
-    const auto      component = static_cast<itk::SmallIsoComponentRunLabeling::ComponentIndexType>(c);
+    const auto      component = static_cast<itk::SmallIsoComponentDetail::RunLabeling::ComponentIndexType>(c);
     SideHistogram & side = labeling.IsComponentAbove(component) ? above : below;
     ++side.Components;
     const itk::SizeValueType componentSize = labeling.GetComponentSize(component);

@@ -1,0 +1,126 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRunEncoder_h
+#define itkSmallIsoComponentRunEncoder_h
+
+#include "itkSmallIsoComponentRunLabeling.h"
+#include "itkSmallIsoComponentSideBits.h"
+#include "itkSmallIsoComponentThreshold.h"
+#include <algorithm>
+#include <vector>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+/** \class RunEncoder
+ * \brief Splits scanlines into the alternating runs of the two sides of an isovalue, for
+ * RunLabeling. Internal to SmallIsoComponentImageFilter.
+ *
+ * A line is described by the start of each of its runs and the side of its first run.
+ * For 8- and 16-bit integers and float, where SSE2 is available, 16 voxels are classified
+ * per compare (SideBits) and a run starts where a voxel's bit differs from the one before;
+ * the other types search for the next change of side (NextSideChange()).
+ *
+ * \ingroup SmallIsoComponent
+ */
+template <typename TPixel>
+class ITK_TEMPLATE_EXPORT RunEncoder
+{
+public:
+  using CoordinateType = RunLabeling::CoordinateType;
+
+  explicit RunEncoder(double isoValue)
+    : m_Threshold(isoValue)
+  {}
+
+  /** Whether EncodeLine() classifies voxels with SSE2 compares. */
+#if defined(__SSE2__)
+  static constexpr bool UsesSimd = HasSideBits<TPixel>;
+#else
+  static constexpr bool UsesSimd = false;
+#endif
+
+  /** Appends the start of every run of the \a length voxels at \a values to \a starts
+   * (the first run's 0 included) and returns whether the first run is above. */
+  bool
+  EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const;
+
+  /** The same through the search for the next change of side: the path of the pixel types
+   * without SIMD compares, here for every type, so that the two can be compared. */
+  bool
+  EncodeLineBySearch(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const;
+
+  /** Encodes every line of \a buffer (the whole image, lines along axis 0) into
+   * \a labeling, the slabs shared among the members of \a team. prepareLines(first, end)
+   * is called for consecutive blocks of lines of a slab (about BlockBytes of voxels each)
+   * just before their lines are read, so that the caller can fill the buffer block by
+   * block while it is in cache; finishSlab() is called by the work unit that encoded a
+   * slab, after its last line. */
+  template <typename TPrepareLines, typename TFinishSlab>
+  void
+  Encode(const TPixel *   buffer,
+         RunLabeling &    labeling,
+         WorkTeam &       team,
+         TPrepareLines && prepareLines,
+         TFinishSlab &&   finishSlab) const
+  {
+    const SizeValueType length = labeling.GetLineLength();
+    const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
+    team.ForEach(labeling.GetNumberOfSlabs(), [&](SizeValueType slab) {
+      auto &              starts = labeling.GetSlabRunStarts(slab);
+      const SizeValueType slabEnd = labeling.GetSlabBeginLine(slab + 1);
+      for (SizeValueType block = labeling.GetSlabBeginLine(slab); block < slabEnd; block += linesPerBlock)
+      {
+        const SizeValueType blockEnd = std::min(slabEnd, block + linesPerBlock);
+        prepareLines(block, blockEnd);
+        for (SizeValueType line = block; line < blockEnd; ++line)
+        {
+          const SizeValueType earlierRuns = starts.size();
+          const bool          firstAbove = this->EncodeLine(buffer + line * length, length, starts);
+          labeling.SetLineRuns(line, starts.size() - earlierRuns, firstAbove);
+        }
+      }
+      // AssembleRuns() holds these and the joined arrays at once: no spare capacity.
+      starts.shrink_to_fit();
+      finishSlab();
+    });
+  }
+
+  /** Encodes every line of \a buffer, with nothing to prepare or finish. */
+  void
+  Encode(const TPixel * buffer, RunLabeling & labeling, WorkTeam & team) const
+  {
+    this->Encode(
+      buffer, labeling, team, [](SizeValueType, SizeValueType) {}, [] {});
+  }
+
+  /** Voxel bytes per block handed to prepareLines() in Encode(). */
+  static constexpr SizeValueType BlockBytes = 32768;
+
+private:
+  Threshold<TPixel> m_Threshold;
+};
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkSmallIsoComponentRunEncoder.hxx"
+#endif
+
+#endif

@@ -1,0 +1,125 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRunEncoder_hxx
+#define itkSmallIsoComponentRunEncoder_hxx
+
+#include "itkSmallIsoComponentRunEncoder.h"
+#include <cstdint>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+template <typename TPixel>
+bool
+RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const
+{
+#if defined(__SSE2__)
+  if constexpr (UsesSimd)
+  {
+    const bool firstAbove = m_Threshold.IsAbove(values[0]);
+    starts.push_back(0);
+    if (!m_Threshold.AnyAbove())
+    {
+      return firstAbove;
+    }
+    // One bit per voxel, set on one side of the isovalue, 64 voxels a word; a run starts
+    // where a voxel's bit differs from the previous voxel's.
+    const SideBits<TPixel> sideBits(m_Threshold.LowestAbove());
+    constexpr bool         marksAbove = SideBitsMarkAbove<TPixel>;
+    uint64_t               previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
+    SizeValueType          x = 0;
+    const auto             addStarts = [&](uint64_t change, SizeValueType base) {
+      for (; change != 0; change &= change - 1)
+      {
+        starts.push_back(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
+      }
+    };
+    for (; x + 64 <= length; x += 64)
+    {
+      const uint64_t bits = uint64_t{ sideBits(values + x) } | uint64_t{ sideBits(values + x + 16) } << 16 |
+                            uint64_t{ sideBits(values + x + 32) } << 32 | uint64_t{ sideBits(values + x + 48) } << 48;
+      const uint64_t change = bits ^ (bits << 1 | previous);
+      previous = bits >> 63;
+      if (change != 0)
+      {
+        addStarts(change, x);
+      }
+    }
+    for (; x + 16 <= length; x += 16)
+    {
+      const uint64_t bits = sideBits(values + x);
+      const uint64_t change = (bits ^ (bits << 1 | previous)) & 0xFFFFu;
+      previous = bits >> 15;
+      if (change != 0)
+      {
+        addStarts(change, x);
+      }
+    }
+    if (x < length)
+    {
+      if (length >= 16)
+      {
+        // The last 16 voxels, of which the ones before x are done.
+        const SizeValueType last = length - 16;
+        const uint64_t      bits = sideBits(values + last);
+        addStarts((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
+      }
+      else
+      {
+        for (; x < length; ++x)
+        {
+          const uint64_t bit = m_Threshold.IsAbove(values[x]) == marksAbove ? 1 : 0;
+          if (bit != previous)
+          {
+            addStarts(1, x);
+          }
+          previous = bit;
+        }
+      }
+    }
+    return firstAbove;
+  }
+  else
+#endif
+  {
+    return this->EncodeLineBySearch(values, length, starts);
+  }
+}
+
+template <typename TPixel>
+bool
+RunEncoder<TPixel>::EncodeLineBySearch(const TPixel *                values,
+                                       SizeValueType                 length,
+                                       std::vector<CoordinateType> & starts) const
+{
+  const bool firstAbove = m_Threshold.IsAbove(values[0]);
+  bool       above = firstAbove;
+  starts.push_back(0);
+  for (SizeValueType x = m_Threshold.NextSideChange(values, 1, length, above); x < length;
+       x = m_Threshold.NextSideChange(values, x + 1, length, above))
+  {
+    above = !above;
+    starts.push_back(static_cast<CoordinateType>(x));
+  }
+  return firstAbove;
+}
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#endif

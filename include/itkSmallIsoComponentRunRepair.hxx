@@ -1,0 +1,277 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentRunRepair_hxx
+#define itkSmallIsoComponentRunRepair_hxx
+
+#include "itkSmallIsoComponentRunRepair.h"
+#include "itkMath.h"
+#include "itkSmallIsoComponentPrefetch.h"
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <type_traits>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+template <typename T>
+bool
+IsNaN(T value)
+{
+  if constexpr (std::is_floating_point<T>::value)
+  {
+    return std::isnan(value);
+  }
+  else
+  {
+    (void)value;
+    return false;
+  }
+}
+
+/** A mean of values of type T, as T: rounded half up for integers. */
+template <typename T>
+T
+MeanToPixel(double mean)
+{
+  if constexpr (std::is_integral<T>::value)
+  {
+    return static_cast<T>(Math::Round<int64_t>(mean));
+  }
+  else
+  {
+    return static_cast<T>(mean);
+  }
+}
+
+template <typename TPixel, unsigned int VDimension>
+RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                   team,
+                                         const RunLabeling &          labeling,
+                                         const std::vector<LineRun> & runs,
+                                         const SizeType &             size)
+  : m_Team(team)
+  , m_Table(labeling.GetRunTable())
+  , m_Runs(runs)
+  , m_Size(size)
+  // A few removed runs are repaired by the calling thread alone: handing them to other
+  // threads costs more than it saves.
+  , m_NumberOfChunks(team.GetNumberOfChunks(runs.size()))
+{
+  m_Stride[0] = 1;
+  for (unsigned int a = 1; a < VDimension; ++a)
+  {
+    m_Stride[a] = m_Stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
+  }
+}
+
+template <typename TPixel, unsigned int VDimension>
+template <typename TPrefetch, typename TVisit>
+void
+RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const
+{
+  const SizeValueType begin = this->ChunkBegin(chunk);
+  const SizeValueType end = this->ChunkBegin(chunk + 1);
+  for (SizeValueType i = begin; i < std::min(end, begin + PrefetchRunsAhead); ++i)
+  {
+    prefetch(m_Runs[i]);
+  }
+  for (SizeValueType i = begin; i < end; ++i)
+  {
+    if (i + PrefetchRunsAhead < end)
+    {
+      prefetch(m_Runs[i + PrefetchRunsAhead]);
+    }
+    visit(m_Runs[i]);
+  }
+}
+
+template <typename TPixel, unsigned int VDimension>
+void
+RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBeforePass,
+                                             const Threshold<TPixel> & threshold,
+                                             bool                      removedAreAbove,
+                                             BelowGrouping *           joinFlipped)
+{
+  const TPixel        fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
+  const auto          sameSide = [&](TPixel v) { return threshold.IsAbove(v) == removedAreAbove; };
+  const SizeValueType length = m_Size[0];
+  SizeValueType       voxels = 1;
+  for (unsigned int a = 0; a < VDimension; ++a)
+  {
+    voxels *= m_Size[a];
+  }
+  // The voxels of a run ahead and their neighbours along the other axes.
+  const auto prefetchNeighbors = [&](const LineRun & ahead) {
+    const SizeValueType first = this->FirstVoxel(ahead);
+    Prefetch(valuesBeforePass + first);
+    for (unsigned int a = 1; a < VDimension; ++a)
+    {
+      const auto step = static_cast<SizeValueType>(m_Stride[a]);
+      if (first >= step)
+      {
+        Prefetch(valuesBeforePass + first - step);
+      }
+      if (first + step < voxels)
+      {
+        Prefetch(valuesBeforePass + first + step);
+      }
+    }
+  };
+  // Adds a value found by a walk to the mean; NaN is never a repair value.
+  const auto addFound = [](TPixel value, double & sum, unsigned int & found) {
+    if (!IsNaN(value))
+    {
+      sum += static_cast<double>(value);
+      ++found;
+    }
+  };
+  m_Values.assign(m_NumberOfChunks, {});
+  m_Unrepairable.assign(m_NumberOfChunks, 0);
+  m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
+    auto & chunkValues = m_Values[chunk];
+    chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
+    this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
+      // The run's coordinates along axes 1..N-1.
+      SizeValueType coordinates[VDimension];
+      SizeValueType rest = removed.Line;
+      for (unsigned int a = 1; a < VDimension; ++a)
+      {
+        coordinates[a] = rest % m_Size[a];
+        rest /= m_Size[a];
+      }
+      const TPixel *      line = valuesBeforePass + removed.Line * length;
+      const SizeValueType start = m_Table.Start[removed.Run];
+      const SizeValueType end = m_Table.End(removed.Run, removed.Line);
+      // Along axis 0 every voxel of the run meets the same two values.
+      SizeValueType left = start;
+      while (left > 0 && sameSide(line[left - 1]))
+      {
+        --left;
+      }
+      SizeValueType right = end;
+      while (right < length && sameSide(line[right]))
+      {
+        ++right;
+      }
+      double       lineSum = 0.0;
+      unsigned int lineFound = 0;
+      if (left > 0)
+      {
+        addFound(line[left - 1], lineSum, lineFound);
+      }
+      if (right < length)
+      {
+        addFound(line[right], lineSum, lineFound);
+      }
+      for (const TPixel * voxel = line + start; voxel < line + end; ++voxel)
+      {
+        double       sum = lineSum;
+        unsigned int found = lineFound;
+        for (unsigned int a = 1; a < VDimension; ++a)
+        {
+          const OffsetValueType step = m_Stride[a];
+          const TPixel *        walk = voxel;
+          for (SizeValueType steps = coordinates[a]; steps > 0; --steps)
+          {
+            walk -= step;
+            if (!sameSide(*walk))
+            {
+              addFound(*walk, sum, found);
+              break;
+            }
+          }
+          walk = voxel;
+          for (SizeValueType next = coordinates[a] + 1; next < m_Size[a]; ++next)
+          {
+            walk += step;
+            if (!sameSide(*walk))
+            {
+              addFound(*walk, sum, found);
+              break;
+            }
+          }
+        }
+        if (found > 0)
+        {
+          chunkValues.push_back(MeanToPixel<TPixel>(sum / found));
+        }
+        else
+        {
+          chunkValues.push_back(fallback);
+          ++m_Unrepairable[chunk];
+        }
+      }
+    });
+    if (joinFlipped != nullptr)
+    {
+      joinFlipped->JoinNeighbors(m_Runs.data() + this->ChunkBegin(chunk), m_Runs.data() + this->ChunkBegin(chunk + 1));
+    }
+  });
+}
+
+template <typename TPixel, unsigned int VDimension>
+SizeValueType
+RunRepair<TPixel, VDimension>::WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const
+{
+  std::vector<SizeValueType> newlyModified(m_NumberOfChunks, 0);
+  m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
+    auto value = m_Values[chunk].cbegin();
+    this->ForEachRunOf(
+      chunk,
+      [&](const LineRun & ahead) { Prefetch(mask + this->FirstVoxel(ahead)); },
+      [&](const LineRun & removed) {
+        const SizeValueType first = this->FirstVoxel(removed);
+        const SizeValueType count = m_Table.End(removed.Run, removed.Line) - m_Table.Start[removed.Run];
+        // Runs are a few voxels: plain loops, no library calls.
+        SizeValueType newly = 0;
+        for (SizeValueType i = 0; i < count; ++i)
+        {
+          output[first + i] = value[i];
+          newly += mask[first + i] == 0 ? 1 : 0;
+          mask[first + i] = maskValue;
+        }
+        value += count;
+        newlyModified[chunk] += newly;
+      });
+  });
+  return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
+}
+
+template <typename TPixel, unsigned int VDimension>
+SizeValueType
+RunRepair<TPixel, VDimension>::GetNumberOfUnrepairableVoxels() const
+{
+  return std::accumulate(m_Unrepairable.begin(), m_Unrepairable.end(), SizeValueType{ 0 });
+}
+
+template <typename TPixel, unsigned int VDimension>
+SizeValueType
+RunRepair<TPixel, VDimension>::GetValueBytes() const
+{
+  SizeValueType bytes = 0;
+  for (const auto & chunkValues : m_Values)
+  {
+    bytes += chunkValues.capacity() * sizeof(TPixel);
+  }
+  return bytes;
+}
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#endif

@@ -1,0 +1,235 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkSmallIsoComponentBelowGrouping.h"
+#include "itkSmallIsoComponentPrefetch.h"
+#include <algorithm>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+// A union-find over components that work units share without locks: a root is linked
+// under another root by compare-and-swap, always the larger index under the smaller, so
+// every root is the smallest component of its group whatever the order of the links;
+// path halving only ever replaces a parent by one of its ancestors.
+BelowGrouping::BelowGrouping(const RunLabeling & labeling)
+  : m_Labeling(labeling)
+  , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
+{
+  for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+  {
+    m_Parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
+  }
+}
+
+BelowGrouping::~BelowGrouping() = default;
+
+SizeValueType
+BelowGrouping::GetScratchBytes() const
+{
+  return m_Labeling.GetNumberOfComponents() * sizeof(std::atomic<ComponentIndexType>);
+}
+
+inline auto
+BelowGrouping::Find(ComponentIndexType component) -> ComponentIndexType
+{
+  while (true)
+  {
+    const ComponentIndexType parent = m_Parent[component].load(std::memory_order_relaxed);
+    if (parent == component)
+    {
+      return component;
+    }
+    const ComponentIndexType grandparent = m_Parent[parent].load(std::memory_order_relaxed);
+    if (grandparent != parent)
+    {
+      m_Parent[component].store(grandparent, std::memory_order_relaxed);
+    }
+    component = grandparent;
+  }
+}
+
+inline void
+BelowGrouping::Join(ComponentIndexType a, ComponentIndexType b)
+{
+  while (true)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a == b)
+    {
+      return;
+    }
+    if (a < b)
+    {
+      std::swap(a, b);
+    }
+    ComponentIndexType expected = a;
+    if (m_Parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
+    {
+      return;
+    }
+  }
+}
+
+void
+BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
+{
+  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
+  // those are below) and the below runs it overlaps in the neighbouring lines; its
+  // component joins theirs. A repeat of the previous pair is skipped.
+  using CoordinateType = RunLabeling::CoordinateType;
+  const RunLabeling::RunTable      table = m_Labeling.GetRunTable();
+  const CoordinateType * const     runStart = table.Start;
+  const ComponentIndexType * const component = table.Component;
+  const SizeValueType * const      lineRunBegin = table.LineBegin;
+  const uint8_t * const            lineFirstAbove = table.LineFirstAbove;
+  const LineNeighbors &            neighbors = m_Labeling.GetLineNeighbors();
+  LineNeighbors::Position          position;
+  // With full connectivity a run also touches the runs that end just before it or start
+  // just after it in the neighbouring lines.
+  const SizeValueType allowance = m_Labeling.IsFullyConnected() ? 1 : 0;
+  ComponentIndexType  lastFlipped = NoGroup;
+  ComponentIndexType  lastBelow = NoGroup;
+  const auto          join = [&](ComponentIndexType flipped, ComponentIndexType below) {
+    if (flipped != lastFlipped || below != lastBelow)
+    {
+      lastFlipped = flipped;
+      lastBelow = below;
+      this->Join(flipped, below);
+    }
+  };
+  // The below runs of line \a other that overlap [from, to). The run that holds from
+  // (the last one starting at or before it; the line's first run starts at 0) is found
+  // by a binary search without branches, which the run starts would make unpredictable.
+  const auto joinOverlapping =
+    [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to) {
+      const SizeValueType    otherBegin = lineRunBegin[other];
+      const SizeValueType    otherEnd = lineRunBegin[other + 1];
+      const CoordinateType * holder = runStart + otherBegin;
+      for (SizeValueType candidates = otherEnd - otherBegin; candidates > 1;)
+      {
+        const SizeValueType half = candidates / 2;
+        holder = holder[half] <= from ? holder + half : holder;
+        candidates -= half;
+      }
+      // The holder overlaps [from, to). Sides alternate, so the below runs that overlap are
+      // every other run from the holder if it is below, else from the run after it.
+      auto below = static_cast<SizeValueType>(holder - runStart);
+      below += (lineFirstAbove[other] != 0) != (((below - otherBegin) & 1) != 0) ? 1 : 0;
+      for (; below < otherEnd && runStart[below] < to; below += 2)
+      {
+        join(flipped, component[below]);
+      }
+    };
+  // The neighbouring lines of the runs ahead are requested early: first where their runs
+  // begin, then (a few runs later, once that has arrived) their runs. Those one plane
+  // away are far from the line in memory; the ones next to it in the plane are not.
+  const SizeValueType lines = m_Labeling.GetNumberOfLines();
+  const SizeValueType plane = m_Labeling.GetSize().size() > 1 ? m_Labeling.GetSize()[1] : 1;
+  const auto          prefetchLines = [&](const LineRun & ahead) {
+    const SizeValueType line = ahead.Line;
+    Prefetch(lineRunBegin + line);
+    Prefetch(lineFirstAbove + line);
+    if (line >= plane)
+    {
+      Prefetch(lineRunBegin + line - plane);
+      Prefetch(lineFirstAbove + line - plane);
+    }
+    if (line + plane < lines)
+    {
+      Prefetch(lineRunBegin + line + plane);
+      Prefetch(lineFirstAbove + line + plane);
+    }
+  };
+  const auto prefetchRuns = [&](const LineRun & ahead) {
+    const SizeValueType line = ahead.Line;
+    const auto          runsOf = [&](SizeValueType other) {
+      const SizeValueType begin = lineRunBegin[other];
+      Prefetch(runStart + begin);
+      Prefetch(component + begin);
+    };
+    runsOf(line);
+    if (line >= plane)
+    {
+      runsOf(line - plane);
+    }
+    if (line + plane < lines)
+    {
+      runsOf(line + plane);
+    }
+  };
+  const auto runs = static_cast<SizeValueType>(last - first);
+  for (SizeValueType i = 0; i < runs; ++i)
+  {
+    if (i + PrefetchLineTablesAhead < runs)
+    {
+      prefetchLines(first[i + PrefetchLineTablesAhead]);
+    }
+    if (i + PrefetchRunsAhead < runs)
+    {
+      prefetchRuns(first[i + PrefetchRunsAhead]);
+    }
+    const SizeValueType      run = first[i].Run;
+    const SizeValueType      line = first[i].Line;
+    const ComponentIndexType flipped = component[run];
+    const SizeValueType      lineBegin = lineRunBegin[line];
+    const SizeValueType      lineEnd = lineRunBegin[line + 1];
+    if (run > lineBegin)
+    {
+      join(flipped, component[run - 1]);
+    }
+    if (run + 1 < lineEnd)
+    {
+      join(flipped, component[run + 1]);
+    }
+    const SizeValueType start = runStart[run];
+    const SizeValueType from = start >= allowance ? start - allowance : 0;
+    const SizeValueType to = table.End(run, line) + allowance;
+    neighbors.MoveTo(position, line);
+    neighbors.ForEachNeighbor(position, [&](SizeValueType other) { joinOverlapping(flipped, other, from, to); });
+  }
+}
+
+auto
+BelowGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups
+{
+  const SizeValueType numberOfComponents = m_Labeling.GetNumberOfComponents();
+  Groups              groups;
+  groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
+  for (SizeValueType c = 0; c < numberOfComponents; ++c)
+  {
+    const auto member = static_cast<ComponentIndexType>(c);
+    if (m_Labeling.IsComponentAbove(member) && !flipped[c])
+    {
+      continue;
+    }
+    const ComponentIndexType root = this->Find(member);
+    // Roots are the smallest member, so a root's group is numbered before its members.
+    if (groups.GroupOfComponent[root] == NoGroup)
+    {
+      groups.GroupOfComponent[root] = static_cast<ComponentIndexType>(groups.GroupSize.size());
+      groups.GroupSize.push_back(0);
+    }
+    groups.GroupOfComponent[c] = groups.GroupOfComponent[root];
+    groups.GroupSize[groups.GroupOfComponent[c]] += m_Labeling.GetComponentSize(member);
+  }
+  return groups;
+}
+} // namespace SmallIsoComponentDetail
+} // end namespace itk

@@ -1,0 +1,280 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The run labelling on its own: the components of both sides against a voxel flood fill
+// in 1-D to 4-D with either connectivity, the same numbering whatever the number of slabs
+// (so the seams between slabs are linked right), components numbered in the order of
+// their first run, the candidate runs, full connectivity through a single corner, and the
+// memory it reports.
+
+#include "itkSmallIsoComponentInternalsTestUtilities.h"
+#include "gtest/gtest.h"
+
+#include <array>
+#include <sstream>
+#include <vector>
+
+namespace
+{
+using namespace itk::SmallIsoComponentTest;
+using itk::SizeValueType;
+using RunLabeling = itk::SmallIsoComponentDetail::RunLabeling;
+
+/** Random sides: voxels above with a random density, in runs along axis 0 of random
+ * length, so that lines have a few long runs or many short ones. */
+std::vector<uint8_t>
+RandomSides(RandomSource & random, SizeValueType voxels)
+{
+  const double         density = random.Pick(std::array<double, 4>{ 0.05, 0.3, 0.5, 0.9 });
+  const double         changeRate = random.Pick(std::array<double, 3>{ 0.1, 0.5, 1.0 });
+  std::vector<uint8_t> values(voxels);
+  bool                 above = random.Chance(density);
+  for (auto & value : values)
+  {
+    if (random.Chance(changeRate))
+    {
+      above = random.Chance(density);
+    }
+    value = above ? 200 : 10;
+  }
+  return values;
+}
+
+/** Empty when the labeling of \a values agrees with a flood fill of each side. */
+template <unsigned int VDimension>
+std::string
+LabelingDifference(const RunLabeling &                 labeling,
+                   const std::vector<uint8_t> &        values,
+                   const Reference::Grid<VDimension> & grid,
+                   const std::vector<SizeValueType> &  voxelComponent)
+{
+  std::ostringstream out;
+  SizeValueType      components = 0;
+  for (const bool above : { true, false })
+  {
+    std::vector<uint8_t> member(values.size());
+    for (SizeValueType v = 0; v < values.size(); ++v)
+    {
+      member[v] = (values[v] >= 100) == above ? 1 : 0;
+    }
+    std::vector<SizeValueType> sizes;
+    const auto                 expected = Reference::LabelComponents(grid, member, sizes);
+    components += sizes.size();
+    const std::string difference = PartitionDifference(voxelComponent, expected);
+    if (!difference.empty())
+    {
+      out << (above ? "above: " : "below: ") << difference << "; ";
+    }
+    for (SizeValueType v = 0; v < values.size() && difference.empty(); ++v)
+    {
+      if (!member[v])
+      {
+        continue;
+      }
+      const auto component = static_cast<RunLabeling::ComponentIndexType>(voxelComponent[v]);
+      if (labeling.GetComponentSize(component) != sizes[expected[v]] || labeling.IsComponentAbove(component) != above)
+      {
+        out << "component " << component << " has " << labeling.GetComponentSize(component) << " voxels, above "
+            << labeling.IsComponentAbove(component) << "; the flood fill finds " << sizes[expected[v]] << "; ";
+        break;
+      }
+    }
+  }
+  if (labeling.GetNumberOfComponents() != components)
+  {
+    out << labeling.GetNumberOfComponents() << " components, the flood fill finds " << components << "; ";
+  }
+  return out.str();
+}
+
+/** The runs of the run table split every line into maximal pieces of one side. */
+std::string
+RunTableDifference(const RunLabeling & labeling, const std::vector<uint8_t> & values)
+{
+  const RunLabeling::RunTable runs = labeling.GetRunTable();
+  for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
+  {
+    bool above = runs.LineFirstAbove[line] != 0;
+    for (SizeValueType run = runs.LineBegin[line]; run < runs.LineBegin[line + 1]; ++run, above = !above)
+    {
+      const SizeValueType first = line * runs.LineLength + runs.Start[run];
+      const SizeValueType end = line * runs.LineLength + runs.End(run, line);
+      bool                right = first < end && (run > runs.LineBegin[line] || runs.Start[run] == 0);
+      for (SizeValueType v = first; v < end; ++v)
+      {
+        right = right && (values[v] >= 100) == above;
+      }
+      right = right && (runs.End(run, line) == runs.LineLength || (values[end] >= 100) != above);
+      if (!right)
+      {
+        std::ostringstream out;
+        out << "run " << run << " of line " << line << " is not a maximal run of one side";
+        return out.str();
+      }
+    }
+  }
+  return "";
+}
+
+template <unsigned int VDimension>
+void
+CheckRandomVolumes(uint32_t seed, unsigned int volumes, SizeValueType largestExtent)
+{
+  RandomSource random(seed);
+  for (unsigned int volume = 0; volume < volumes; ++volume)
+  {
+    const auto                        extent = RandomExtent<VDimension>(random, 1, largestExtent);
+    const bool                        fullyConnected = random.Chance(0.5);
+    const Reference::Grid<VDimension> grid(extent, fullyConnected);
+    const std::vector<uint8_t>        values = RandomSides(random, grid.NumberOfVoxels());
+    const auto                        candidateSize = static_cast<SizeValueType>(random.Between(0, 30));
+    std::ostringstream                where;
+    where << "seed " << seed << " volume " << volume << " full " << fullyConnected << " extent";
+    for (const auto e : extent)
+    {
+      where << " " << e;
+    }
+    SCOPED_TRACE(where.str());
+
+    // One slab, two, and as many as the work units of 8 give (one plane each when the
+    // volume has fewer): every one numbers the components alike.
+    std::vector<SizeValueType> firstNumbering;
+    for (const unsigned int slabUnits : { 1u, 2u, 8u })
+    {
+      RunLabeling labeling;
+      Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, slabUnits, candidateSize, slabUnits == 8 ? 1 : 2);
+      const std::vector<SizeValueType> voxelComponent = VoxelComponents(labeling);
+      if (slabUnits == 1)
+      {
+        ASSERT_EQ(RunTableDifference(labeling, values), "");
+        ASSERT_EQ(LabelingDifference(labeling, values, grid, voxelComponent), "");
+        firstNumbering = voxelComponent;
+
+        // Numbered in order of their first run: a new component is the next number.
+        const RunLabeling::RunTable runs = labeling.GetRunTable();
+        SizeValueType               numbered = 0;
+        const SizeValueType         lastRun = runs.LineBegin[labeling.GetNumberOfLines()];
+        for (SizeValueType run = 0; run < lastRun; ++run)
+        {
+          ASSERT_LE(runs.Component[run], numbered) << "run " << run;
+          numbered += runs.Component[run] == numbered ? 1 : 0;
+        }
+
+        // The candidates of the selected components: their runs while the component has
+        // at most candidateSize voxels up to and including the run, in run order.
+        std::vector<uint8_t> selected(labeling.GetNumberOfComponents());
+        for (auto & s : selected)
+        {
+          s = random.Chance(0.5) ? 1 : 0;
+        }
+        std::vector<RunLabeling::LineRun> expected;
+        std::vector<SizeValueType>        sizeSoFar(labeling.GetNumberOfComponents(), 0);
+        for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
+        {
+          for (SizeValueType run = runs.LineBegin[line]; run < runs.LineBegin[line + 1]; ++run)
+          {
+            const auto component = runs.Component[run];
+            sizeSoFar[component] += runs.End(run, line) - runs.Start[run];
+            if (selected[component] && sizeSoFar[component] <= candidateSize)
+            {
+              expected.push_back(
+                { static_cast<RunLabeling::RunIndexType>(run), static_cast<RunLabeling::RunIndexType>(line) });
+            }
+          }
+        }
+        const auto collected = labeling.CollectCandidateRuns(selected);
+        ASSERT_EQ(collected.size(), expected.size());
+        for (SizeValueType i = 0; i < expected.size(); ++i)
+        {
+          ASSERT_EQ(collected[i].Run, expected[i].Run);
+          ASSERT_EQ(collected[i].Line, expected[i].Line);
+        }
+
+        // The memory it reports covers the bytes per run, line, component and candidate
+        // that its class documentation states.
+        std::vector<uint8_t> all(labeling.GetNumberOfComponents(), 1);
+        const SizeValueType  candidates = labeling.CollectCandidateRuns(all).size();
+        EXPECT_GE(labeling.GetMemoryInBytes(),
+                  8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetNumberOfComponents() +
+                    8 * candidates);
+      }
+      else
+      {
+        ASSERT_EQ(voxelComponent, firstNumbering) << slabUnits << " work units' slabs number differently";
+      }
+    }
+  }
+}
+
+/** Two above voxels at \a first and \a second in an image of extent \a extent, the rest
+ * below: how many above components each connectivity finds. */
+template <unsigned int VDimension>
+std::array<SizeValueType, 2>
+AboveComponentsOfTwoVoxels(const std::array<SizeValueType, VDimension> &        extent,
+                           const std::array<itk::OffsetValueType, VDimension> & first,
+                           const std::array<itk::OffsetValueType, VDimension> & second)
+{
+  std::array<SizeValueType, 2> counts{};
+  for (const bool fullyConnected : { false, true })
+  {
+    const Reference::Grid<VDimension> grid(extent, fullyConnected);
+    std::vector<uint8_t>              values(grid.NumberOfVoxels(), 10);
+    values[grid.Linear(first)] = 200;
+    values[grid.Linear(second)] = 200;
+    RunLabeling labeling;
+    Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, 2, 0);
+    for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+    {
+      counts[fullyConnected ? 1 : 0] +=
+        labeling.IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(c)) ? 1 : 0;
+    }
+  }
+  return counts;
+}
+} // namespace
+
+TEST(SmallIsoComponentRunLabeling, ComponentsOfBothSidesAsAFloodFillFindsThem)
+{
+  CheckRandomVolumes<1>(101, 60, 300);
+  CheckRandomVolumes<2>(102, 200, 30);
+  CheckRandomVolumes<3>(103, 200, 12);
+  CheckRandomVolumes<4>(104, 100, 6);
+}
+
+TEST(SmallIsoComponentRunLabeling, FullConnectivityJoinsVoxelsThatShareOnlyACorner)
+{
+  using Counts = std::array<SizeValueType, 2>;
+  // Diagonal along axes 0 and 1 (a one-voxel overlap of runs in neighbouring lines).
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<2>({ 5, 5 }, { 1, 1 }, { 2, 2 })), (Counts{ 2, 1 }));
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<2>({ 5, 5 }, { 2, 1 }, { 1, 2 })), (Counts{ 2, 1 }));
+  // Corners in 3-D and 4-D: a diagonal line neighbour plus the overlap along axis 0.
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<3>({ 4, 4, 4 }, { 1, 1, 1 }, { 2, 2, 2 })), (Counts{ 2, 1 }));
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<3>({ 4, 4, 4 }, { 2, 1, 2 }, { 1, 2, 1 })), (Counts{ 2, 1 }));
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<4>({ 3, 3, 3, 3 }, { 0, 0, 0, 0 }, { 1, 1, 1, 1 })), (Counts{ 2, 1 }));
+  // Diagonal in a plane across lines only (same x), at a slab seam of a 3-D volume.
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<3>({ 3, 4, 8 }, { 1, 1, 3 }, { 1, 2, 4 })), (Counts{ 2, 1 }));
+  // Two voxels apart touch under neither.
+  EXPECT_EQ((AboveComponentsOfTwoVoxels<3>({ 5, 5, 5 }, { 1, 1, 1 }, { 3, 1, 1 })), (Counts{ 2, 2 }));
+}
+
+TEST(SmallIsoComponentRunLabeling, LinesOfNoVoxelsAreAnError)
+{
+  RunLabeling labeling;
+  EXPECT_THROW(labeling.Initialize({ 0, 4 }, false, 1), itk::ExceptionObject);
+  EXPECT_THROW(labeling.Initialize({}, false, 1), itk::ExceptionObject);
+}
