@@ -109,10 +109,10 @@ ZlibProblem(int status, const char * message)
 std::string
 PngProblem(const fs::path & path)
 {
-  std::ifstream                   file(path, std::ios::binary);
-  const std::array<char, 8>       signature{ { '\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n' } };
-  std::array<char, 8>             start{};
-  std::vector<unsigned char>      chunk;
+  std::ifstream              file(path, std::ios::binary);
+  const std::array<char, 8>  signature{ { '\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n' } };
+  std::array<char, 8>        start{};
+  std::vector<unsigned char> chunk;
   if (!file.read(start.data(), start.size()) || start != signature)
   {
     return "is not a PNG file (no PNG signature)";
@@ -139,7 +139,8 @@ PngProblem(const fs::path & path)
       return "is cut short: a chunk goes beyond the end of the file";
     }
     const unsigned char * stored = chunk.data() + 4 + length;
-    const std::uint32_t   expected = (std::uint32_t{ stored[0] } << 24) | (stored[1] << 16) | (stored[2] << 8) | stored[3];
+    const std::uint32_t   expected =
+      (std::uint32_t{ stored[0] } << 24) | (stored[1] << 16) | (stored[2] << 8) | stored[3];
     if (crc32(crc32(0L, Z_NULL, 0), chunk.data(), static_cast<uInt>(4 + length)) != expected)
     {
       return "is corrupt: a chunk fails its CRC";
@@ -263,9 +264,9 @@ ImageFileProblem(const ImageFileParts & parts)
   if (checked && parts.DataBytes && available < *parts.DataBytes)
   {
     const bool        own = parts.Data.size() == 1 && parts.Data.front().File == parts.Files.front();
-    const std::string where = own ? std::string("it holds ")
-                                  : parts.Data.size() == 1 ? "its data file " + Quoted(parts.Data.front().File) + " holds "
-                                                           : "its data files hold ";
+    const std::string where = own                      ? std::string("it holds ")
+                              : parts.Data.size() == 1 ? "its data file " + Quoted(parts.Data.front().File) + " holds "
+                                                       : "its data files hold ";
     return "is incomplete: " + where + Bytes(available) + " of voxels and its header describes " +
            Bytes(*parts.DataBytes);
   }

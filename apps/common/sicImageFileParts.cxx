@@ -170,8 +170,7 @@ public:
     reader.m_Offset = offset;
     std::string line;
     for (std::uint64_t skipped = 0; skipped < count && reader.Next(line); ++skipped)
-    {
-    }
+    {}
     return reader.m_Offset;
   }
 
@@ -349,9 +348,10 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   const std::string   encoding = Lower(fields["encoding"]);
   const bool          raw = encoding == "raw";
   const bool          deflate = encoding == "gzip" || encoding == "gz";
-  const std::uint64_t typeBytes = fields["type"] == "block" ? static_cast<std::uint64_t>(std::max<std::int64_t>(
-                                                                ParseInteger(fields["blocksize"]).value_or(0), 0))
-                                                            : NrrdTypeBytes(fields["type"]);
+  const std::uint64_t typeBytes =
+    fields["type"] == "block"
+      ? static_cast<std::uint64_t>(std::max<std::int64_t>(ParseInteger(fields["blocksize"]).value_or(0), 0))
+      : NrrdTypeBytes(fields["type"]);
   if (typeBytes > 0)
   {
     parts.DataBytes = DataBytesOf(Words(fields["sizes"]), typeBytes);
@@ -391,7 +391,9 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   const auto addSegment = [&](const fs::path & file, std::uint64_t offset) {
     ImageDataSegment segment;
     segment.File = file;
-    segment.Encoding = raw ? ImageDataEncoding::Raw : deflate ? ImageDataEncoding::Deflate : ImageDataEncoding::Unchecked;
+    segment.Encoding = raw       ? ImageDataEncoding::Raw
+                       : deflate ? ImageDataEncoding::Deflate
+                                 : ImageDataEncoding::Unchecked;
     segment.Offset = LineReader::SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip));
     if (raw && byteSkip == -1)
     {
@@ -423,9 +425,8 @@ std::uint64_t
 MetaTypeBytes(const std::string & type)
 {
   static const std::map<std::string, std::uint64_t> Sizes = {
-    { "MET_CHAR", 1 },      { "MET_UCHAR", 1 },      { "MET_SHORT", 2 }, { "MET_USHORT", 2 },
-    { "MET_INT", 4 },       { "MET_UINT", 4 },       { "MET_FLOAT", 4 }, { "MET_DOUBLE", 8 },
-    { "MET_LONG_LONG", 8 }, { "MET_ULONG_LONG", 8 },
+    { "MET_CHAR", 1 }, { "MET_UCHAR", 1 }, { "MET_SHORT", 2 },  { "MET_USHORT", 2 },    { "MET_INT", 4 },
+    { "MET_UINT", 4 }, { "MET_FLOAT", 4 }, { "MET_DOUBLE", 8 }, { "MET_LONG_LONG", 8 }, { "MET_ULONG_LONG", 8 },
   };
   const auto found = Sizes.find(type);
   return found == Sizes.end() ? 0 : found->second;
@@ -461,12 +462,12 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
 
   const std::vector<std::string>    sizes = Words(fields["DimSize"]);
   const std::optional<std::int64_t> dimensions = ParseInteger(fields["NDims"]);
-  const std::optional<std::int64_t> channels =
-    fields.count("ElementNumberOfChannels") ? ParseInteger(fields["ElementNumberOfChannels"])
-                                            : std::optional<std::int64_t>(1);
-  const std::uint64_t typeBytes = MetaTypeBytes(fields["ElementType"]);
-  if (typeBytes > 0 && dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size() &&
-      channels && *channels >= 1)
+  const std::optional<std::int64_t> channels = fields.count("ElementNumberOfChannels")
+                                                 ? ParseInteger(fields["ElementNumberOfChannels"])
+                                                 : std::optional<std::int64_t>(1);
+  const std::uint64_t               typeBytes = MetaTypeBytes(fields["ElementType"]);
+  if (typeBytes > 0 && dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size() && channels &&
+      *channels >= 1)
   {
     parts.DataBytes = DataBytesOf(std::vector<std::string>(sizes.begin(), sizes.begin() + *dimensions),
                                   SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
@@ -615,7 +616,8 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
   }
   const bool nifti2 = headerBytes == 540;
   const auto dimension = [&](int i) {
-    return nifti2 ? FieldAt<std::int64_t>(bytes, 16 + 8 * i, swapped) : FieldAt<std::int16_t>(bytes, 40 + 2 * i, swapped);
+    return nifti2 ? FieldAt<std::int64_t>(bytes, 16 + 8 * i, swapped)
+                  : FieldAt<std::int16_t>(bytes, 40 + 2 * i, swapped);
   };
   const std::int64_t bitsPerVoxel = FieldAt<std::int16_t>(bytes, nifti2 ? 14 : 72, swapped);
   const std::int64_t dimensions = dimension(0);
@@ -675,8 +677,8 @@ FindImageFileParts(const fs::path & path, std::string & problem)
     parts.Format = ImageFileFormat::MetaImage;
     ReadMetaImage(path, parts, problem);
   }
-  else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") ||
-           EndsWith(name, ".hdr.gz") || EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
+  else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz") ||
+           EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
   {
     parts.Format = ImageFileFormat::Nifti;
     ReadNifti(path, parts, problem);
