@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Sets up (installs missing Debian packages, builds) and runs every test of the project.
+# Sets up (installs missing Debian packages, builds) and runs every test of the project, then
+# a subset of them built with AddressSanitizer and UndefinedBehaviorSanitizer.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${SMALLISO_BUILD_DIR:-$root/build}
@@ -7,4 +8,10 @@ build=${SMALLISO_BUILD_DIR:-$root/build}
 status=0
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900) || status=1
 "$root/scripts/check-format.sh" || status=1
+# AddressSanitizer + UndefinedBehaviorSanitizer on a subset that keeps CI short: the filter's
+# named cases and interface, and the tool's fault tests (scripts/sanitize.sh asan runs all).
+asan_subset='SmallIsoComponent(Behaviour|Interface)\.|SmallIsoComponentRobustness\.test_(full_disk_leaves|outputs_whose|corrupt|header_promising|termination)'
+echo "test: ASan + UBSan subset (build-asan/)"
+SMALLISO_SANITIZE_TARGETS="SmallIsoComponentGTestDriver SmallIsoComponentFilter SmallIsoComponentCLITestProbe" \
+  "$root/scripts/sanitize.sh" asan -R "$asan_subset" --timeout 900 || status=1
 exit $status

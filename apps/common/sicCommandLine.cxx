@@ -280,12 +280,18 @@ ParseThreads(const ParsedCommandLine & arguments)
     return 0;
   }
   const std::uint64_t threads = ParseCount("--threads", arguments.Value("--threads"));
-  if (threads > ITK_MAX_THREADS)
+  if (threads > MaximumThreads())
   {
     throw ToolError("--threads " + arguments.Value("--threads") + " is too many; expected 0 to " +
-                    std::to_string(ITK_MAX_THREADS));
+                    std::to_string(MaximumThreads()));
   }
   return threads;
+}
+
+std::uint64_t
+MaximumThreads()
+{
+  return ITK_MAX_THREADS;
 }
 
 void

@@ -154,10 +154,15 @@ ParseCount(const std::string & flag, const std::string & text);
 std::string
 ParseChoice(const std::string & flag, const std::string & text, const std::vector<std::string> & choices);
 
-/** The number of ITK work units --threads asks for, 0 to ITK_MAX_THREADS; 0 (ITK's
+/** The number of ITK work units --threads asks for, 0 to MaximumThreads(); 0 (ITK's
  * default) when it is not given. Throws ToolError naming the flag. */
 std::uint64_t
 ParseThreads(const ParsedCommandLine & arguments);
+
+/** The most work units --threads takes: ITK's limit, ITK_MAX_THREADS (128 unless ITK was
+ * built otherwise). */
+std::uint64_t
+MaximumThreads();
 
 /** Throws ToolError if one of \a flags, options that take a file path, was given an empty
  * value. */

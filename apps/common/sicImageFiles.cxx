@@ -16,9 +16,12 @@
  *
  *=========================================================================*/
 #include "sicImageFiles.h"
+#include "sicImageDataCheck.h"
+#include "sicImageFileParts.h"
 
 #include "itkImageIOFactory.h"
 
+#include <algorithm>
 #include <filesystem>
 
 namespace sic
@@ -91,6 +94,27 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   {
     throw ToolError("cannot read " + what + " " + quoted + ": it is a directory; expected an image file");
   }
+  if (!std::filesystem::is_regular_file(status))
+  {
+    throw ToolError("cannot read " + what + " " + quoted +
+                    ": it is not a regular file (a FIFO, device or socket); expected an image file");
+  }
+  const auto refuse = [&](const std::string & problem) {
+    throw ToolError(what + " " + quoted + " " + (problem.compare(0, 3, "is ") == 0 ? "" : "cannot be read: ") +
+                    problem + "; expected a complete, intact image file");
+  };
+  // The data files are checked before ITK reads the header: its NRRD reader opens them, and would wait forever
+  // for a FIFO. A header only this parser finds fault with is refused after ITK had its say.
+  std::string          headerProblem;
+  const ImageFileParts parts = FindImageFileParts(path, headerProblem);
+  if (headerProblem.empty())
+  {
+    const std::string dataProblem = ImageFileProblem(parts);
+    if (!dataProblem.empty())
+    {
+      refuse(dataProblem);
+    }
+  }
   itk::ImageIOBase::Pointer io =
     itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
   if (!io)
@@ -127,13 +151,59 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   {
     throw ToolError(what + " " + quoted + " is " + std::to_string(info.Dimension) + "-D; expected a 2-D or 3-D image");
   }
+  std::string size;
   for (unsigned int axis = 0; axis < info.Dimension; ++axis)
   {
     info.Size.push_back(io->GetDimensions(axis));
     info.Spacing.push_back(io->GetSpacing(axis));
     info.Origin.push_back(io->GetOrigin(axis));
+    size += (axis == 0 ? "" : " x ") + std::to_string(info.Size.back());
   }
+  if (std::find(info.Size.begin(), info.Size.end(), 0) != info.Size.end())
+  {
+    throw ToolError(what + " " + quoted + " is empty: its size is " + size +
+                    " voxels; expected at least one voxel along every axis");
+  }
+
+  if (!headerProblem.empty())
+  {
+    refuse(headerProblem);
+  }
+  info.Files = parts.Files;
   return info;
+}
+
+void
+CheckPngFileName(const std::string & path, const std::string & what)
+{
+  if (std::filesystem::path(path).extension() != ".png")
+  {
+    throw ToolError("cannot write the " + what + " '" + path + "': expected a .png file (the " + what +
+                    " is a PNG picture)");
+  }
+}
+
+bool
+CheckWrittenImageFile(const std::string & path, const std::string & finalPath, const std::string & what)
+{
+  std::string          problem;
+  const ImageFileParts parts = FindImageFileParts(path, problem);
+  if (parts.Format == ImageFileFormat::Other)
+  {
+    return false;
+  }
+  if (problem.empty())
+  {
+    problem = ImageFileProblem(parts);
+  }
+  if (!problem.empty())
+  {
+    // A header the tools cannot read back was cut short while it was written.
+    throw ToolError("cannot write " + what + " '" + finalPath + "': the file written " +
+                    (problem.compare(0, 3, "is ") == 0 ? "" : "is incomplete: ") +
+                    ShowFinalPaths(problem, path, finalPath) + " (is the disk full?)");
+  }
+  return true;
 }
 
 void

@@ -18,6 +18,7 @@
 #ifndef sicImageFiles_h
 #define sicImageFiles_h
 
+#include "sicStagedOutputs.h"
 #include "sicToolError.h"
 
 #include "itkCommand.h"
@@ -26,6 +27,8 @@
 #include "itkImageIOBase.h"
 
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -39,11 +42,17 @@ struct ScalarImageInfo
   std::vector<std::uint64_t> Size;
   std::vector<double>        Spacing;
   std::vector<double>        Origin;
+  /** The files the image consists of: the file itself, then the data files its header names. */
+  std::vector<std::filesystem::path> Files;
 };
 
 /** Reads the header of the image file \a path (described to the user as \a what, e.g.
- * "input") and checks that the tools can process it: a scalar pixel of a supported type
- * (SupportedPixelTypes()) in 2 or 3 dimensions. Throws ToolError saying what is wrong. */
+ * "input") and checks that the tools can process it: a regular file (a FIFO would be read
+ * by each of ITK's format checks in turn), a scalar pixel of a supported type
+ * (SupportedPixelTypes()) in 2 or 3 dimensions, at least one voxel along every axis, and
+ * its voxels all there (ImageFileProblem(): data files of the size the header describes,
+ * compressed data complete and passing its checksums), checked before anything is
+ * allocated. Throws ToolError saying what is wrong. */
 ScalarImageInfo
 ReadScalarImageInfo(const std::string & path, const std::string & what);
 
@@ -61,6 +70,11 @@ SupportedPixelTypes();
 void
 CheckImageFileFormat(const std::string & path, const std::string & what, unsigned int dimension);
 
+/** Throws ToolError unless \a path, where the picture described as \a what is written, ends in
+ * .png: the pictures are PNG files whatever their name says. */
+void
+CheckPngFileName(const std::string & path, const std::string & what);
+
 /** Reads the whole image; \a observer (may be null) watches the reader's progress. */
 template <typename TImage>
 typename TImage::Pointer
@@ -72,6 +86,8 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   {
     reader->AddObserver(itk::ProgressEvent(), observer);
   }
+  // The readers' own prints are shown after a success; after a failure the one-line error says it all.
+  StandardErrorCapture messages;
   try
   {
     reader->Update();
@@ -80,14 +96,23 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   {
     throw ToolError("cannot read " + what + " '" + path + "': " + OneLine(error.GetDescription()));
   }
+  messages.Replay();
   typename TImage::Pointer image = reader->GetOutput();
   image->DisconnectPipeline();
   return image;
 }
 
-/** Writes \a image to \a path, compressed where the format allows unless \a compress is false.
- * \a finalPath is the path the user asked for (the file may be written elsewhere first), for
- * messages. */
+/** Throws ToolError (naming \a finalPath, the path the user asked for) unless the image file ITK
+ * wrote at \a path is complete (ImageFileProblem()): ITK's MetaImage and NIfTI writers only warn
+ * when a write fails, e.g. on a full disk. Returns false, having checked nothing, for a format
+ * ImageFileProblem() does not check. */
+bool
+CheckWrittenImageFile(const std::string & path, const std::string & finalPath, const std::string & what);
+
+/** Writes \a image to \a path, compressed where the format allows unless \a compress is false, and checks that the file
+ * holds it: with CheckWrittenImageFile(), or for the other formats by reading it back and
+ * comparing every voxel. \a finalPath is the path the user asked for (the file may be written
+ * elsewhere first), for messages. */
 template <typename TImage>
 void
 WriteImage(const TImage *      image,
@@ -105,6 +130,8 @@ WriteImage(const TImage *      image,
   {
     writer->AddObserver(itk::ProgressEvent(), observer);
   }
+  // The MetaImage and NIfTI writers print a line where they fail: a failure gets one line of its own instead.
+  StandardErrorCapture messages;
   try
   {
     writer->Update();
@@ -112,14 +139,35 @@ WriteImage(const TImage *      image,
   catch (const itk::ExceptionObject & error)
   {
     // The message names the file the user asked for, not where it was being written.
-    std::string description = error.GetDescription();
-    for (size_t at = description.find(path); at != std::string::npos;
-         at = description.find(path, at + finalPath.size()))
-    {
-      description.replace(at, path.size(), finalPath);
-    }
-    throw ToolError("cannot write " + what + " '" + finalPath + "': " + OneLine(description));
+    throw ToolError("cannot write " + what + " '" + finalPath +
+                    "': " + OneLine(ShowFinalPaths(error.GetDescription(), path, finalPath)));
   }
+  if (CheckWrittenImageFile(path, finalPath, what))
+  {
+    messages.Replay();
+    return;
+  }
+  typename TImage::Pointer written;
+  try
+  {
+    written = ReadImage<TImage>(path, what, nullptr);
+  }
+  catch (const ToolError & error)
+  {
+    throw ToolError("cannot write " + what + " '" + finalPath + "': the file written cannot be read back (" +
+                    ShowFinalPaths(error.what(), path, finalPath) + "); is the disk full?");
+  }
+  const auto & region = image->GetBufferedRegion();
+  if (written->GetBufferedRegion().GetSize() != region.GetSize() ||
+      std::memcmp(written->GetBufferPointer(),
+                  image->GetBufferPointer(),
+                  region.GetNumberOfPixels() * sizeof(typename TImage::PixelType)) != 0)
+  {
+    throw ToolError("cannot write " + what + " '" + finalPath +
+                    "': the file written does not read back as the image (is the disk full, or can the format not "
+                    "hold its voxels exactly?)");
+  }
+  messages.Replay();
 }
 } // namespace sic
 

@@ -20,8 +20,12 @@
 #include "sicToolError.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,9 +37,11 @@
 #  include <cerrno>
 #  include <fcntl.h>
 #  include <poll.h>
+#  include <pthread.h>
 #  include <signal.h>
 #  include <spawn.h>
 #  include <sys/wait.h>
+#  include <thread>
 #  include <unistd.h>
 
 extern char ** environ;
@@ -58,6 +64,34 @@ const char * const DefaultPath = "/usr/bin:/bin";
 const char * const ProgramSuffix = "";
 #endif
 
+struct TerminationActions
+{
+  std::mutex                                     Mutex;
+  std::map<std::uint64_t, std::function<void()>> Actions;
+  std::uint64_t                                  Next{ 0 };
+};
+
+/** Never destroyed: a signal may come while static objects are being destroyed. */
+TerminationActions &
+Registry()
+{
+  static auto * registry = new TerminationActions;
+  return *registry;
+}
+
+/** Runs every action and leaves the registry locked, as the process is about to end: no action starts or ends
+ * after the cleanup. */
+void
+RunTerminationActions()
+{
+  TerminationActions & registry = Registry();
+  registry.Mutex.lock();
+  for (auto & entry : registry.Actions)
+  {
+    entry.second();
+  }
+}
+
 bool
 IsProgram(const fs::path & path)
 {
@@ -69,6 +103,21 @@ IsProgram(const fs::path & path)
 #endif
 }
 } // namespace
+
+TerminationAction::TerminationAction(std::function<void()> action)
+{
+  TerminationActions &        registry = Registry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  m_Id = registry.Next++;
+  registry.Actions.emplace(m_Id, std::move(action));
+}
+
+TerminationAction::~TerminationAction()
+{
+  TerminationActions &        registry = Registry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  registry.Actions.erase(m_Id);
+}
 
 fs::path
 FindProgram(const std::string & name)
@@ -90,6 +139,112 @@ FindProgram(const std::string & name)
   return {};
 }
 
+namespace
+{
+// The C runtime's descriptor calls, spelled with an underscore on Windows.
+int
+Descriptor(std::FILE * file)
+{
+#ifdef _WIN32
+  return _fileno(file);
+#else
+  return fileno(file);
+#endif
+}
+
+int
+Duplicate(int descriptor)
+{
+#ifdef _WIN32
+  return _dup(descriptor);
+#else
+  return dup(descriptor);
+#endif
+}
+
+int
+DuplicateOnto(int descriptor, int onto)
+{
+#ifdef _WIN32
+  return _dup2(descriptor, onto);
+#else
+  return dup2(descriptor, onto);
+#endif
+}
+
+void
+CloseDescriptor(int descriptor)
+{
+#ifdef _WIN32
+  _close(descriptor);
+#else
+  close(descriptor);
+#endif
+}
+} // namespace
+
+StandardErrorCapture::StandardErrorCapture()
+{
+  std::cerr.flush();
+  std::clog.flush();
+  std::fflush(stderr);
+  m_File = std::tmpfile();
+  if (m_File == nullptr)
+  {
+    return;
+  }
+  m_Saved = Duplicate(Descriptor(stderr));
+  if (m_Saved < 0 || DuplicateOnto(Descriptor(m_File), Descriptor(stderr)) < 0)
+  {
+    if (m_Saved >= 0)
+    {
+      CloseDescriptor(m_Saved);
+    }
+    std::fclose(m_File);
+    m_File = nullptr;
+  }
+}
+
+StandardErrorCapture::~StandardErrorCapture()
+{
+  Restore();
+}
+
+std::string
+StandardErrorCapture::Restore()
+{
+  if (m_File == nullptr)
+  {
+    return {};
+  }
+  std::cerr.flush();
+  std::clog.flush();
+  std::fflush(stderr);
+  DuplicateOnto(m_Saved, Descriptor(stderr));
+  CloseDescriptor(m_Saved);
+  std::string text;
+  std::rewind(m_File);
+  char   chunk[4096];
+  size_t got = 0;
+  while ((got = std::fread(chunk, 1, sizeof(chunk), m_File)) > 0)
+  {
+    text.append(chunk, got);
+  }
+  std::fclose(m_File);
+  m_File = nullptr;
+  return text;
+}
+
+void
+StandardErrorCapture::Replay()
+{
+  const std::string text = Restore();
+  if (!text.empty())
+  {
+    std::cerr << text << std::flush;
+  }
+}
+
 #ifdef _WIN32
 // No POSIX here: std::filesystem and the C runtime where they do the job, a clear error
 // where they do not.
@@ -102,7 +257,23 @@ NotSupported(const fs::path & program)
   return "cannot run " + program.filename().string() +
          ": starting other programs is not supported on this platform; expected a POSIX system";
 }
+extern "C" void
+OnTerminationSignal(int received)
+{
+  RunTerminationActions();
+  std::signal(received, SIG_DFL);
+  std::raise(received);
+}
 } // namespace
+
+void
+HandleTerminationSignals()
+{
+  for (const int received : { SIGINT, SIGTERM })
+  {
+    std::signal(received, OnTerminationSignal);
+  }
+}
 
 fs::path
 CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
@@ -196,7 +367,75 @@ ArgumentVector(const fs::path & program, std::vector<std::string> & arguments)
   argv.push_back(nullptr);
   return argv;
 }
+
+/** Whether HandleTerminationSignals() blocked the termination signals, and the signal mask before it did. */
+bool     SignalsBlocked = false;
+sigset_t SignalMaskBefore;
+
+/** Spawn attributes that give a started program the signal mask the tool had before it blocked the termination
+ * signals; a program with them blocked could not be stopped. */
+class SpawnAttributes
+{
+public:
+  SpawnAttributes()
+  {
+    posix_spawnattr_init(&m_Attributes);
+    if (SignalsBlocked)
+    {
+      posix_spawnattr_setsigmask(&m_Attributes, &SignalMaskBefore);
+      posix_spawnattr_setflags(&m_Attributes, POSIX_SPAWN_SETSIGMASK);
+    }
+  }
+  SpawnAttributes(const SpawnAttributes &) = delete;
+  SpawnAttributes &
+  operator=(const SpawnAttributes &) = delete;
+  ~SpawnAttributes() { posix_spawnattr_destroy(&m_Attributes); }
+
+  const posix_spawnattr_t *
+  Get() const
+  {
+    return &m_Attributes;
+  }
+
+private:
+  posix_spawnattr_t m_Attributes;
+};
 } // namespace
+
+void
+HandleTerminationSignals()
+{
+  static std::once_flag once;
+  std::call_once(once, [] {
+    sigset_t signals;
+    sigemptyset(&signals);
+    for (const int candidate : { SIGINT, SIGTERM, SIGHUP })
+    {
+      // An ignored signal stays ignored (nohup): blocked, it would be delivered to the waiting thread.
+      struct sigaction current
+      {};
+      if (sigaction(candidate, nullptr, &current) == 0 && current.sa_handler != SIG_IGN)
+      {
+        sigaddset(&signals, candidate);
+      }
+    }
+    pthread_sigmask(SIG_BLOCK, &signals, &SignalMaskBefore);
+    SignalsBlocked = true;
+    std::thread([signals] {
+      int received = 0;
+      while (sigwait(&signals, &received) != 0)
+      {}
+      RunTerminationActions();
+      sigset_t only;
+      sigemptyset(&only);
+      sigaddset(&only, received);
+      pthread_sigmask(SIG_UNBLOCK, &only, nullptr);
+      // The signal's default action ends the process; the exit is only for a signal that somehow does not.
+      raise(received);
+      _exit(128 + received);
+    }).detach();
+  });
+}
 
 fs::path
 CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
@@ -244,8 +483,9 @@ RunProgram(const fs::path & program, const std::vector<std::string> & arguments,
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t     child = 0;
-  const int spawned = posix_spawn(&child, program.c_str(), &actions, nullptr, argv.data(), environ);
+  pid_t                 child = 0;
+  const SpawnAttributes attributes;
+  const int spawned = posix_spawn(&child, program.c_str(), &actions, attributes.Get(), argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0)
   {
@@ -267,6 +507,8 @@ struct BackgroundProgram::Process
   pid_t Id{ -1 };
   /** The read end of the program's pipe. */
   int Pipe{ -1 };
+  /** Stops the program when a signal ends the tool first. */
+  std::unique_ptr<TerminationAction> Stop;
 };
 
 BackgroundProgram::BackgroundProgram(const fs::path &                 program,
@@ -288,7 +530,8 @@ BackgroundProgram::BackgroundProgram(const fs::path &                 program,
   posix_spawn_file_actions_addclose(&actions, channel[0]);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  const int spawned = posix_spawn(&m_Process->Id, program.c_str(), &actions, nullptr, argv.data(), environ);
+  const SpawnAttributes attributes;
+  const int spawned = posix_spawn(&m_Process->Id, program.c_str(), &actions, attributes.Get(), argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   close(channel[1]);
   if (spawned != 0)
@@ -298,10 +541,13 @@ BackgroundProgram::BackgroundProgram(const fs::path &                 program,
                              std::error_code(spawned, std::generic_category()).message());
   }
   m_Process->Pipe = channel[0];
+  const pid_t id = m_Process->Id;
+  m_Process->Stop = std::make_unique<TerminationAction>([id] { kill(id, SIGTERM); });
 }
 
 BackgroundProgram::~BackgroundProgram()
 {
+  m_Process->Stop.reset();
   close(m_Process->Pipe);
   kill(m_Process->Id, SIGTERM);
   waitpid(m_Process->Id, nullptr, 0);

@@ -23,7 +23,10 @@
 // throws ToolError saying so, so that the tools still build wherever ITK builds.
 
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -47,6 +50,57 @@ PeakResidentBytes();
  * bytes, or 0 where the system does not tell. */
 std::uint64_t
 AvailableMemoryBytes();
+
+/** Makes the signals that ask a process to stop (SIGINT, SIGTERM and SIGHUP, those of them not ignored) run every
+ * TerminationAction first; then the signal ends the process as it would have, so its exit status still says which
+ * signal ended it. On POSIX systems a thread of its own waits for them, blocked in every other thread, so the
+ * actions run as ordinary code: call this first in main, before any other thread starts (programs started with
+ * RunProgram() and BackgroundProgram get the signals unblocked). Elsewhere a signal handler runs the actions
+ * (SIGINT and SIGTERM). A second call does nothing. */
+void
+HandleTerminationSignals();
+
+/** What to undo when a termination signal ends the process (see HandleTerminationSignals()), from construction
+ * to destruction; destruction waits for the action when it is running. The action runs on another thread: it
+ * must lock what it shares with the rest of the program, and must not throw. */
+class TerminationAction
+{
+public:
+  explicit TerminationAction(std::function<void()> action);
+  TerminationAction(const TerminationAction &) = delete;
+  TerminationAction &
+  operator=(const TerminationAction &) = delete;
+  ~TerminationAction();
+
+private:
+  std::uint64_t m_Id;
+};
+
+/** Diverts everything the process writes to its standard error (C++ streams, C stdio, libraries' own prints) from
+ * construction until Replay() writes it where it would have gone, or destruction drops it. ITK's, VTK's and their
+ * libraries' writers print their own lines about a failure that the tools report as one line of their own; after
+ * a success their messages are replayed. Captures nothing when no temporary file can be made. */
+class StandardErrorCapture
+{
+public:
+  StandardErrorCapture();
+  StandardErrorCapture(const StandardErrorCapture &) = delete;
+  StandardErrorCapture &
+  operator=(const StandardErrorCapture &) = delete;
+  ~StandardErrorCapture();
+
+  /** Ends the capture and writes what was captured to the standard error. */
+  void
+  Replay();
+
+private:
+  /** Ends the capture and returns what was captured. */
+  std::string
+  Restore();
+
+  int         m_Saved{ -1 };
+  std::FILE * m_File{ nullptr };
+};
 
 /** Whether the standard error stream is a terminal (where a progress bar can be redrawn). */
 bool

@@ -53,21 +53,47 @@ Quoted(const fs::path & path)
 {
   return "'" + path.string() + "'";
 }
+
+/** \a text with every \a from replaced by \a to. */
+std::string
+ReplaceAll(std::string text, const std::string & from, const std::string & to)
+{
+  for (size_t at = text.find(from); !from.empty() && at != std::string::npos; at = text.find(from, at + to.size()))
+  {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
 } // namespace
+
+StagedOutputs::StagedOutputs()
+  : m_Cleanup(std::make_unique<TerminationAction>([this] { RemoveStaged(); }))
+{}
 
 StagedOutputs::~StagedOutputs()
 {
+  RemoveStaged();
+}
+
+void
+StagedOutputs::RemoveStaged()
+{
+  std::lock_guard<std::mutex> lock(m_StagedMutex);
   for (const Staged & staged : m_Staged)
   {
     std::error_code ignored;
     fs::remove_all(staged.Directory, ignored);
   }
+  m_Staged.clear();
 }
 
 void
-StagedOutputs::Protect(const std::string & path, const std::string & what)
+StagedOutputs::Protect(const std::vector<fs::path> & files, const std::string & what)
 {
-  m_Protected.push_back({ fs::path(path), what });
+  for (size_t i = 0; i < files.size(); ++i)
+  {
+    m_Protected.push_back({ files[i], i == 0 ? what : "a data file of " + what });
+  }
 }
 
 void
@@ -110,6 +136,7 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
                     " is not a directory");
   }
   CheckNotProtected(destination, what);
+  std::lock_guard<std::mutex> lock(m_StagedMutex);
   for (const Staged & other : m_Staged)
   {
     if (SameFile(destination, other.Final))
@@ -119,7 +146,8 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
     }
   }
 
-  const fs::path staging = CreateUniqueDirectory(directory, "." + name.string() + ".tmp-", error);
+  // The directory's name does not grow with the output's, so that any name the file system takes works.
+  const fs::path staging = CreateUniqueDirectory(directory, StagingDirectoryPrefix, error);
   if (staging.empty())
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": cannot create a file in " +
@@ -132,8 +160,10 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
 void
 StagedOutputs::Commit()
 {
-  // Everything is checked before anything is moved.
-  std::vector<std::vector<fs::path>> files(m_Staged.size());
+  // Everything is checked before anything is moved; a termination signal's cleanup waits until all is moved.
+  std::lock_guard<std::mutex>                   lock(m_StagedMutex);
+  std::vector<std::vector<fs::path>>            files(m_Staged.size());
+  std::vector<std::pair<fs::path, std::string>> destinations;
   for (size_t i = 0; i < m_Staged.size(); ++i)
   {
     const Staged &  staged = m_Staged[i];
@@ -161,6 +191,15 @@ StagedOutputs::Commit()
                         ": it is a directory; expected a file path");
       }
       CheckNotProtected(destination, staged.What);
+      for (const auto & [other, otherWhat] : destinations)
+      {
+        if (SameFile(destination, other))
+        {
+          throw ToolError("the " + staged.What + " and the " + otherWhat + " both write " + Quoted(destination) +
+                          "; expected outputs whose files have different names");
+        }
+      }
+      destinations.emplace_back(destination, staged.What);
     }
   }
   for (size_t i = 0; i < m_Staged.size(); ++i)
@@ -181,6 +220,21 @@ StagedOutputs::Commit()
     fs::remove(staged.Directory, ignored);
   }
   m_Staged.clear();
+}
+
+std::string
+ShowFinalPaths(const std::string & text, const std::string & stagedPath, const std::string & finalPath)
+{
+  if (stagedPath == finalPath)
+  {
+    return text;
+  }
+  const std::string staging = fs::path(stagedPath).parent_path().string();
+  const std::string directory = fs::path(finalPath).parent_path().string();
+  std::string       shown = ReplaceAll(text, stagedPath, finalPath);
+  shown =
+    ReplaceAll(shown, (fs::path(staging) / "").string(), directory.empty() ? "" : (fs::path(directory) / "").string());
+  return ReplaceAll(shown, staging, directory.empty() ? "." : directory);
 }
 
 void

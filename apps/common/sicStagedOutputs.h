@@ -18,7 +18,11 @@
 #ifndef sicStagedOutputs_h
 #define sicStagedOutputs_h
 
+#include "sicPlatform.h"
+
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,29 +31,36 @@ namespace sic
 /** Output files that appear all at once, or not at all.
  *
  * Each output is first written into a staging directory created beside its final path
- * (same file system, so moving it is a rename); Commit() then renames every staged file
- * into place. An output whose format writes several files (.mhd + .zraw, .nhdr + .raw.gz)
- * is staged under its final file name, so the header's reference to its data file stays
- * right. Until Commit(), the final paths are untouched; if the tool fails before that,
- * the destructor removes the staging directories, so a failure never leaves a
- * half-written or partial output.
+ * (same file system, so moving it is a rename), named StagingDirectoryPrefix followed by six
+ * random characters; Commit() then renames every staged file into place. An output whose
+ * format writes several files (.mhd + .zraw, .nhdr + .raw.gz) is staged under its final
+ * file name, so the header's reference to its data file stays right. Until Commit(), the
+ * final paths are untouched; if the tool fails before that, the destructor removes the
+ * staging directories, and so does a termination signal (HandleTerminationSignals()), so
+ * neither leaves a half-written or partial output. Only a process killed outright (SIGKILL)
+ * leaves its staging directories behind.
  *
  * Stage() checks a destination before any work is done: its directory must exist, it
- * must not be a directory, and it must be neither a protected file (an input; compared by
- * file identity, so links and other spellings of the same file are caught) nor another
- * output. */
+ * must not be a directory, and it must be neither a protected file (a file of an input;
+ * compared by file identity, so links and other spellings of the same file are caught) nor
+ * another output. Commit() checks every file that was written, data files included, in the
+ * same way before it moves any. */
 class StagedOutputs
 {
 public:
-  StagedOutputs() = default;
+  /** The start of every staging directory's name (hidden on POSIX systems). */
+  static constexpr const char * StagingDirectoryPrefix = ".SmallIsoComponent-";
+
+  StagedOutputs();
   StagedOutputs(const StagedOutputs &) = delete;
   StagedOutputs &
   operator=(const StagedOutputs &) = delete;
   ~StagedOutputs();
 
-  /** Refuses to write over \a path, described to the user as \a what (e.g. "the input"). */
+  /** Refuses to write over any of \a files, an input's header and data files, described to the user as \a what
+   * (e.g. "the input image") for the first and as its data files for the others. */
   void
-  Protect(const std::string & path, const std::string & what);
+  Protect(const std::vector<std::filesystem::path> & files, const std::string & what);
 
   /** Checks that \a finalPath may receive the output described as \a what (e.g. "output
    * image") and returns the path to write it to. Throws ToolError saying what is wrong. */
@@ -76,9 +87,22 @@ private:
   void
   CheckNotProtected(const std::filesystem::path & destination, const std::string & what) const;
 
+  /** Removes every staging directory and forgets them. */
+  void
+  RemoveStaged();
+
   std::vector<Protected> m_Protected;
-  std::vector<Staged>    m_Staged;
+  /** Guards m_Staged, which a termination signal's cleanup reads from another thread. */
+  std::mutex          m_StagedMutex;
+  std::vector<Staged> m_Staged;
+  /** Declared last, so that it is destroyed first: no cleanup runs on destroyed members. */
+  std::unique_ptr<TerminationAction> m_Cleanup;
 };
+
+/** \a text (a message) with \a stagedPath, and the staging directory it is in, replaced by \a finalPath and its
+ * directory: the names the user gave. */
+std::string
+ShowFinalPaths(const std::string & text, const std::string & stagedPath, const std::string & finalPath);
 
 /** Writes \a text to \a path, where the output described as \a what (e.g. "report") is
  * staged. Throws ToolError, naming the output's \a finalPath, if that fails. */

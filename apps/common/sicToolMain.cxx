@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "sicToolMain.h"
+#include "sicPlatform.h"
 #include "sicSlicerDescription.h"
 #include "sicToolError.h"
 
@@ -33,6 +34,8 @@ ToolMain(const ToolDescription &                               tool,
          char *                                                argv[],
          const std::function<int(const ParsedCommandLine &)> & run)
 {
+  // Before any thread starts: a termination signal then removes the staged outputs first.
+  HandleTerminationSignals();
   try
   {
     const ParsedCommandLine arguments = ParseCommandLine(tool, argc, argv);

@@ -218,13 +218,13 @@ DescribeTool()
                         {} };
   Option threads{ "--threads",
                   "N",
-                  "Number of ITK work units to use (the filter runs at most one thread per core); 0 uses ITK's "
-                  "default (the number of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not "
-                  "depend on it.",
+                  "Number of ITK work units to use, at most " + std::to_string(sic::MaximumThreads()) +
+                    " (ITK's limit); the filter runs at most one thread per core. 0 uses ITK's default (the number "
+                    "of cores, or ITK_GLOBAL_DEFAULT_NUMBER_OF_THREADS). The result does not depend on it.",
                   "0",
                   parameter("integer", "threads", "Threads", "Advanced") };
   threads.Slicer.Minimum = "0";
-  threads.Slicer.Maximum = "1024";
+  threads.Slicer.Maximum = std::to_string(sic::MaximumThreads());
   Option quiet{ "--quiet",
                 "",
                 "Print neither progress nor the summary; errors are still reported on stderr.",
@@ -647,7 +647,7 @@ Run(const sic::FilterSettings & settings)
 
   // Every output is checked, and its staging place made, before the work starts.
   sic::StagedOutputs outputs;
-  outputs.Protect(settings.Input, "the input image");
+  outputs.Protect(info.Files, "the input image");
   StagedPaths staged;
   staged.Image = outputs.Stage(settings.Output, "output image");
   sic::CheckImageFileFormat(settings.Output, "output image", info.Dimension);
@@ -676,10 +676,7 @@ Run(const sic::FilterSettings & settings)
   }
   if (!settings.Render.empty())
   {
-    if (std::filesystem::path(settings.Render).extension() != ".png")
-    {
-      throw sic::ToolError("cannot write the rendering '" + settings.Render + "': expected a .png file");
-    }
+    sic::CheckPngFileName(settings.Render, "rendering");
     staged.Render = outputs.Stage(settings.Render, "rendering");
     sic::HeadlessDisplay::CheckAvailable();
   }

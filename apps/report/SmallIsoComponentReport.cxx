@@ -141,7 +141,8 @@ DescribeTool()
       {} },
     { "--threads",
       "N",
-      "Number of threads (ITK work units); 0 uses ITK's default. The report does not depend on it.",
+      "Number of threads (ITK work units), at most " + std::to_string(sic::MaximumThreads()) +
+        " (ITK's limit); 0 uses ITK's default. The report does not depend on it.",
       "0",
       {} },
     { "--help", "", "Print this help and exit (also -h).", "", {} },
@@ -224,6 +225,10 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   settings.Output = arguments.Value("--output");
   settings.Plot = arguments.Value("--plot");
   sic::CheckPathsNotEmpty(arguments, { "--output", "--plot" });
+  if (!settings.Plot.empty())
+  {
+    sic::CheckPngFileName(settings.Plot, "plot");
+  }
   if (arguments.Has("--plot-size"))
   {
     settings.PlotSize = sic::ParseCount("--plot-size", arguments.Value("--plot-size"));
@@ -337,7 +342,7 @@ Run(const ReportSettings & settings)
     sic::CheckPlotterAvailable();
   }
   sic::StagedOutputs outputs;
-  outputs.Protect(settings.Input, "the input image");
+  outputs.Protect(info.Files, "the input image");
   const std::string stagedOutput = settings.Output.empty() ? "" : outputs.Stage(settings.Output, "report");
   const std::string stagedPlot = settings.Plot.empty() ? "" : outputs.Stage(settings.Plot, "plot");
 
@@ -380,7 +385,7 @@ Run(const ReportSettings & settings)
       settings.IsoValues.begin();
     const std::string title = std::filesystem::path(settings.Input).filename().string() + ", " +
                               (settings.FullyConnected ? "full" : "face") + " connectivity";
-    sic::PlotReport(report, kIndex, rowIndex, stagedPlot, title);
+    sic::PlotReport(report, kIndex, rowIndex, stagedPlot, settings.Plot, title);
   }
   if (!stagedOutput.empty())
   {

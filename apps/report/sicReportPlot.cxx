@@ -17,7 +17,9 @@
  *=========================================================================*/
 #include "sicReportPlot.h"
 
+#include "sicImageFiles.h"
 #include "sicPlatform.h"
+#include "sicStagedOutputs.h"
 #include "sicToolError.h"
 
 #include <filesystem>
@@ -43,7 +45,7 @@ Quoted(const std::string & text)
   return quoted + "'";
 }
 
-/** A directory of its own under the system's temporary directory, removed with it. */
+/** A directory of its own under the system's temporary directory, removed with it or by a termination signal. */
 class TemporaryDirectory
 {
 public:
@@ -56,12 +58,17 @@ public:
       throw ToolError("cannot create a temporary directory for the plot in " + fs::temp_directory_path().string() +
                       " (" + error.message() + ")");
     }
+    m_Cleanup = std::make_unique<TerminationAction>([path = m_Path] {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    });
   }
   TemporaryDirectory(const TemporaryDirectory &) = delete;
   TemporaryDirectory &
   operator=(const TemporaryDirectory &) = delete;
   ~TemporaryDirectory()
   {
+    m_Cleanup.reset();
     std::error_code ignored;
     fs::remove_all(m_Path, ignored);
   }
@@ -72,7 +79,8 @@ public:
   }
 
 private:
-  fs::path m_Path;
+  fs::path                           m_Path;
+  std::unique_ptr<TerminationAction> m_Cleanup;
 };
 
 /** gnuplot's path on PATH; throws ToolError when it cannot be run. */
@@ -136,7 +144,12 @@ CheckPlotterAvailable()
 }
 
 void
-PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::string & path, const std::string & title)
+PlotReport(const Report &      report,
+           size_t              kIndex,
+           size_t              rowIndex,
+           const std::string & path,
+           const std::string & finalPath,
+           const std::string & title)
 {
   const fs::path           plotter = FindPlotter();
   const TemporaryDirectory directory;
@@ -212,14 +225,16 @@ PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::str
   const int      status = RunProgram(plotter, { scriptPath.string() }, log);
   if (status != 0)
   {
-    throw ToolError("gnuplot failed to draw '" + path + "' (" +
+    throw ToolError("gnuplot failed to draw '" + finalPath + "' (" +
                     (status < 0 ? std::string("it could not be run") : "exit status " + std::to_string(status)) +
-                    "): " + FirstMessage(log));
+                    "): " + ShowFinalPaths(FirstMessage(log), path, finalPath));
   }
   std::error_code error;
   if (fs::file_size(path, error) == 0 || error)
   {
-    throw ToolError("gnuplot wrote no picture to '" + path + "'");
+    throw ToolError("gnuplot wrote no picture to '" + finalPath + "'");
   }
+  // gnuplot exits 0 when it could write only part of the picture (a full disk).
+  CheckWrittenImageFile(path, finalPath, "plot");
 }
 } // namespace sic

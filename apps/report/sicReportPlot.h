@@ -31,10 +31,17 @@ CheckPlotterAvailable();
 /** Draws \a report into the PNG file \a path with gnuplot, 2 × 2 panels: components
  * removed and voxels modified against the isovalue at maximum size K = MaximumSizes[kIndex]
  * (top), and against K at isovalue Rows[rowIndex] (bottom), one curve per side. The data
- * and the gnuplot script go to a temporary directory, removed afterwards. \a title heads
- * the picture. Throws ToolError when gnuplot is missing or fails. */
+ * and the gnuplot script go to a temporary directory, removed afterwards (and by a
+ * termination signal). \a title heads the picture. Throws ToolError, naming \a finalPath
+ * (where the picture goes in the end), when gnuplot is missing or fails or the PNG file it
+ * wrote is incomplete. */
 void
-PlotReport(const Report & report, size_t kIndex, size_t rowIndex, const std::string & path, const std::string & title);
+PlotReport(const Report &      report,
+           size_t              kIndex,
+           size_t              rowIndex,
+           const std::string & path,
+           const std::string & finalPath,
+           const std::string & title);
 } // namespace sic
 
 #endif

@@ -17,6 +17,8 @@
  *=========================================================================*/
 #include "sicRender.h"
 
+#include "sicImageFiles.h"
+#include "sicPlatform.h"
 #include "sicToolError.h"
 #include "sicVtkErrors.h"
 
@@ -180,11 +182,15 @@ RenderPanels(const RenderScene & scene, const std::string & path, const std::str
   writer->AddObserver(vtkCommand::ErrorEvent, failed);
   writer->SetInputConnection(capture->GetOutputPort());
   writer->SetFileName(path.c_str());
+  // libpng prints its own lines about a failed write; the error below says it in one.
+  StandardErrorCapture messages;
   writer->Write();
   std::error_code error;
   if (failed->Raised || writer->GetErrorCode() != 0 || !std::filesystem::exists(path, error))
   {
     throw ToolError("cannot write the rendering to '" + finalPath + "'");
   }
+  CheckWrittenImageFile(path, finalPath, "rendering");
+  messages.Replay();
 }
 } // namespace sic

@@ -17,6 +17,8 @@
  *=========================================================================*/
 #include "sicSurface.h"
 
+#include "sicPlatform.h"
+#include "sicStagedOutputs.h"
 #include "sicToolError.h"
 #include "sicVtkErrors.h"
 
@@ -26,21 +28,26 @@
 #include "vtkFlyingEdges3D.h"
 #include "vtkIdList.h"
 #include "vtkImageData.h"
+#include "vtkOBJReader.h"
 #include "vtkOBJWriter.h"
 #include "vtkPLYWriter.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSTLReader.h"
 #include "vtkSTLWriter.h"
+#include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 namespace sic
@@ -363,6 +370,129 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
   return removed;
 }
 
+namespace
+{
+/** Bytes of a PLY scalar type, 0 for an unknown one. */
+std::size_t
+PlyTypeBytes(const std::string & type)
+{
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8")
+    return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16")
+    return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32")
+    return 4;
+  if (type == "double" || type == "float64")
+    return 8;
+  return 0;
+}
+
+/** Whether \a path is a complete binary PLY file with \a points vertices and \a polygons faces: every element's
+ * every property, lists included, is there, walking the data as the header declares it. */
+bool
+IsCompleteBinaryPly(const std::string & path, vtkIdType points, vtkIdType polygons)
+{
+  struct Property
+  {
+    std::size_t Bytes{ 0 };
+    /** For a list, the bytes of its count; 0 for a scalar. */
+    std::size_t CountBytes{ 0 };
+  };
+  struct Element
+  {
+    std::string           Name;
+    std::uint64_t         Count{ 0 };
+    std::vector<Property> Properties;
+  };
+  std::ifstream        file(path, std::ios::binary);
+  std::string          line;
+  std::vector<Element> elements;
+  bool                 littleEndian = true;
+  while (std::getline(file, line) && line != "end_header")
+  {
+    std::istringstream words(line);
+    std::string        keyword;
+    words >> keyword;
+    if (keyword == "format")
+    {
+      std::string format;
+      words >> format;
+      littleEndian = format == "binary_little_endian";
+      if (!littleEndian && format != "binary_big_endian")
+      {
+        return false;
+      }
+    }
+    else if (keyword == "element")
+    {
+      Element element;
+      words >> element.Name >> element.Count;
+      elements.push_back(element);
+    }
+    else if (keyword == "property" && !elements.empty())
+    {
+      std::string type;
+      words >> type;
+      Property property;
+      if (type == "list")
+      {
+        std::string countType;
+        words >> countType >> type;
+        property.CountBytes = PlyTypeBytes(countType);
+        if (property.CountBytes == 0)
+        {
+          return false;
+        }
+      }
+      property.Bytes = PlyTypeBytes(type);
+      if (property.Bytes == 0)
+      {
+        return false;
+      }
+      elements.back().Properties.push_back(property);
+    }
+  }
+  if (!file)
+  {
+    return false;
+  }
+  for (const Element & element : elements)
+  {
+    if ((element.Name == "vertex" && element.Count != static_cast<std::uint64_t>(points)) ||
+        (element.Name == "face" && element.Count != static_cast<std::uint64_t>(polygons)))
+    {
+      return false;
+    }
+    for (std::uint64_t record = 0; record < element.Count; ++record)
+    {
+      for (const Property & property : element.Properties)
+      {
+        std::uint64_t values = 1;
+        if (property.CountBytes > 0)
+        {
+          unsigned char count[8] = {};
+          if (!file.read(reinterpret_cast<char *>(count), static_cast<std::streamsize>(property.CountBytes)))
+          {
+            return false;
+          }
+          values = 0;
+          for (std::size_t i = 0; i < property.CountBytes; ++i)
+          {
+            const std::size_t byte = littleEndian ? property.CountBytes - 1 - i : i;
+            values = (values << 8) | count[byte];
+          }
+        }
+        file.seekg(static_cast<std::streamoff>(values * property.Bytes), std::ios::cur);
+      }
+    }
+  }
+  // Seeking past the end succeeds: the position reached must be within the file.
+  const std::streamoff reached = file.tellg();
+  file.seekg(0, std::ios::end);
+  return file && reached >= 0 && reached <= file.tellg();
+}
+} // namespace
+
 std::string
 SupportedSurfaceExtensions()
 {
@@ -388,7 +518,10 @@ WriteSurface(vtkPolyData &       surface,
              const std::string & finalPath,
              const std::string & what)
 {
-  const auto write = [&](auto writer) {
+  const std::string failure = "cannot write the " + what + " to '" + finalPath + "'";
+  // VTK and its writers print their own lines (a pipeline dump) about a failure: the error says it in one.
+  StandardErrorCapture messages;
+  const auto           write = [&](auto writer) {
     auto errors = vtkSmartPointer<VtkErrorCollector>::New();
     writer->AddObserver(vtkCommand::ErrorEvent, errors);
     writer->SetInputData(&surface);
@@ -397,8 +530,23 @@ WriteSurface(vtkPolyData &       surface,
     std::error_code error;
     if (written != 1 || writer->GetErrorCode() != 0 || errors->Raised || !std::filesystem::exists(stagedPath, error))
     {
-      throw ToolError("cannot write the " + what + " to '" + finalPath + "'" +
-                      (errors->Message.empty() ? std::string() : ": " + errors->Message));
+      throw ToolError(failure + (errors->Message.empty()
+                                             ? std::string()
+                                             : ": " + ShowFinalPaths(errors->Message, stagedPath, finalPath)));
+    }
+  };
+  // Some writers (PLY, OBJ) do not notice a failed write, e.g. on a full disk: the surface is read back, and must
+  // have every triangle.
+  const auto readBack = [&](auto reader) {
+    auto errors = vtkSmartPointer<VtkErrorCollector>::New();
+    reader->AddObserver(vtkCommand::ErrorEvent, errors);
+    reader->SetFileName(stagedPath.c_str());
+    reader->Update();
+    vtkPolyData * written = reader->GetOutput();
+    if (errors->Raised || written == nullptr || written->GetNumberOfPolys() != surface.GetNumberOfPolys() ||
+        written->GetPolys()->GetNumberOfConnectivityIds() != surface.GetPolys()->GetNumberOfConnectivityIds())
+    {
+      throw ToolError(failure + ": the file written does not read back as the surface (is the disk full?)");
     }
   };
   const std::string extension = LowerExtension(finalPath);
@@ -409,26 +557,38 @@ WriteSurface(vtkPolyData &       surface,
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToZLib();
     write(writer);
+    readBack(vtkSmartPointer<vtkXMLPolyDataReader>::New());
   }
   else if (extension == ".stl")
   {
     auto writer = vtkSmartPointer<vtkSTLWriter>::New();
     writer->SetFileTypeToBinary();
     write(writer);
+    // Merging points would drop the triangles whose corners coincide.
+    auto reader = vtkSmartPointer<vtkSTLReader>::New();
+    reader->MergingOff();
+    readBack(reader);
   }
   else if (extension == ".ply")
   {
     auto writer = vtkSmartPointer<vtkPLYWriter>::New();
     writer->SetFileTypeToBinary();
     write(writer);
+    // VTK's PLY reader crashes on a cut PLY file: its size is checked against its header instead.
+    if (!IsCompleteBinaryPly(stagedPath, surface.GetNumberOfPoints(), surface.GetNumberOfPolys()))
+    {
+      throw ToolError(failure + ": the file written is incomplete (is the disk full?)");
+    }
   }
   else if (extension == ".obj")
   {
     write(vtkSmartPointer<vtkOBJWriter>::New());
+    readBack(vtkSmartPointer<vtkOBJReader>::New());
   }
   else
   {
     CheckSurfaceFileFormat(finalPath, what);
   }
+  messages.Replay();
 }
 } // namespace sic

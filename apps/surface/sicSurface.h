@@ -159,7 +159,9 @@ void
 CheckSurfaceFileFormat(const std::string & path, const std::string & what);
 
 /** Writes \a surface to \a stagedPath in the format \a finalPath's extension names (the
- * staged path may lack it). Throws sic::ToolError, naming \a finalPath, on failure. */
+ * staged path may lack it), then reads the file back: it must hold every triangle, as the
+ * PLY and OBJ writers do not notice a failed write. Throws sic::ToolError, naming
+ * \a finalPath, on failure, in one line (VTK's own messages are not shown). */
 void
 WriteSurface(vtkPolyData &       surface,
              const std::string & stagedPath,

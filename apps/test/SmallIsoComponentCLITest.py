@@ -9,7 +9,6 @@ Environment (set by apps/test/CMakeLists.txt):
                runs the filter directly in C++ for reference statistics)
   SIC_SCRATCH  a directory for the tests' files
 """
-import hashlib
 import json
 import math
 import os
@@ -18,7 +17,7 @@ import sys
 import unittest
 import xml.dom.minidom
 
-from sic_tool_test import USAGE_ERROR, ToolTestCase, run
+from sic_tool_test import ToolTestCase, digest, run
 
 try:
     import pty  # POSIX only
@@ -42,11 +41,6 @@ def reject_constant(name):
 def load_json(path):
     with open(path, encoding="utf-8") as file:
         return json.load(file, parse_constant=reject_constant)
-
-
-def digest(path):
-    with open(path, "rb") as file:
-        return hashlib.sha256(file.read()).hexdigest()
 
 
 class SmallIsoComponentCLITest(ToolTestCase):
@@ -77,16 +71,6 @@ class SmallIsoComponentCLITest(ToolTestCase):
         for key in ("modified_voxels", "unrepairable_voxels"):
             self.assertEqual(stats["statistics"][key], reference[key], key)
         self.assertEqual(stats["parameters"]["effective_max_size"], reference["effective_max_size"])
-
-    def assertUsageError(self, result, *words):
-        """Exit status 2 and exactly one line on stderr that mentions each of words."""
-        self.assertEqual(result.returncode, USAGE_ERROR, result.stderr)
-        lines = result.stderr.splitlines()
-        self.assertEqual(len(lines), 1, "expected one line on stderr, got:\n" + result.stderr)
-        self.assertTrue(lines[0].startswith("SmallIsoComponent"), lines[0])
-        for word in words:
-            self.assertIn(word, lines[0])
-        return lines[0]
 
     def assertOnlyFiles(self, *names):
         """The scratch directory holds exactly these files: no output, no staging leftovers."""

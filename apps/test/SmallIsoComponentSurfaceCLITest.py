@@ -228,6 +228,35 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
         self.assertIn("Xvfb", result.stderr)
         self.assertEqual(sorted(os.listdir(self.dir)), ["phantom.nrrd"], "nothing may be written")
 
+    def test_full_disk_for_surfaces_and_rendering(self):
+        # Some writers do not notice (PLY, OBJ), others print VTK's dump or name the staging path.
+        phantom = self.phantom()
+        disk = self.small_disk("disk", size="32k")
+        for option, name in (("--surface", "s.vtp"), ("--surface", "s.stl"), ("--surface", "s.ply"),
+                             ("--surface", "s.obj"), ("--surface-before", "b.vtp"), ("--render", "r.png")):
+            with self.subTest(name=name):
+                result = run(FILTER, phantom, self.path("out.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--quiet",
+                             option, os.path.join(disk, name))
+                self.assertUsageError(result, os.path.join(disk, name))
+                self.assertEqual(os.listdir(disk), [], "nothing may be left on the full disk")
+                self.assertFalse(os.path.exists(self.path("out.nrrd")))
+
+    def test_surfaces_never_write_over_the_inputs_data_files(self):
+        surface_input, picture_input = self.path("in.nhdr"), self.path("pic.nhdr")
+        voxels = sic_tool_test.noise(2 * 16 ** 3)
+        sic_tool_test.write_nrrd(surface_input, [16, 16, 16], voxels, data_file="s.vtp")
+        sic_tool_test.write_nrrd(picture_input, [16, 16, 16], voxels, data_file="r.png")
+        digests = {name: sic_tool_test.digest(self.path(name)) for name in ("s.vtp", "r.png")}
+        for source, option, target in ((surface_input, "--surface", "s.vtp"),
+                                       (surface_input, "--surface-before", "s.vtp"),
+                                       (picture_input, "--render", "r.png")):
+            with self.subTest(option=option):
+                result = run(FILTER, source, self.path("out.nrrd"), "--isovalue", "0", "--quiet", option,
+                             self.path(target))
+                self.assertUsageError(result, "data file of the input image", target)
+                self.assertFalse(os.path.exists(self.path("out.nrrd")))
+        self.assertEqual({name: sic_tool_test.digest(self.path(name)) for name in digests}, digests)
+
     def test_report_counts_match_the_filter(self):
         phantom = self.phantom()
         report_path = self.path("report.json")

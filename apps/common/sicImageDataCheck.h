@@ -1,0 +1,51 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef sicImageDataCheck_h
+#define sicImageDataCheck_h
+
+// Whether an image file holds all it should, checked without ITK: ITK's MetaImage and NIfTI readers accept
+// truncated files (with a warning or silently), its NRRD reader accepts gzip data that fails its checksum, and
+// its MetaImage and NIfTI writers only warn when a write fails.
+
+#include "sicImageFileParts.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace sic
+{
+/** Why the image file of \a parts does not hold all its voxels, as a phrase to follow the file's name (e.g. "is
+ * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does,
+ * or when its format is ImageFileFormat::Other. Checks that every data file is a regular file; that raw data has
+ * as many bytes as the header describes (without reading them); that compressed data is complete zlib or gzip
+ * streams whose checksums (and gzip lengths) match, inflating to enough bytes (reading them once); and that a PNG
+ * file's chunks are complete, pass their CRCs and end with IEND. Data files are named as they are given: callers
+ * that show other names replace them. */
+std::string
+ImageFileProblem(const ImageFileParts & parts);
+
+/** Inflates the zlib or gzip streams that fill \a file from byte \a offset on (gzip members one after another;
+ * anything after the last one is ignored, as zlib's own reader ignores it), checking each stream's checksum, and
+ * returns the number of bytes they inflate to. Sets \a problem ("is missing", "is cut short", "fails its checksum
+ * (incorrect data check)", "is corrupt (...)") when the data is not complete, intact zlib or gzip data. */
+std::uint64_t
+InflatedSize(const std::filesystem::path & file, std::uint64_t offset, std::string & problem);
+} // namespace sic
+
+#endif

@@ -1,0 +1,692 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicImageFileParts.h"
+
+#include "itk_zlib.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace sic
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+constexpr std::uint64_t Saturated = std::numeric_limits<std::uint64_t>::max();
+/** No header names more data files than this (a file per slice of a very large volume). */
+constexpr std::uint64_t MaximumDataFiles = 1000000;
+
+std::string
+Lower(std::string text)
+{
+  std::transform(
+    text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+bool
+EndsWith(const std::string & text, const std::string & suffix)
+{
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string
+Trim(const std::string & text)
+{
+  const size_t begin = text.find_first_not_of(" \t\r");
+  if (begin == std::string::npos)
+  {
+    return {};
+  }
+  return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
+}
+
+std::vector<std::string>
+Words(const std::string & text)
+{
+  std::istringstream       stream(text);
+  std::vector<std::string> words;
+  for (std::string word; stream >> word;)
+  {
+    words.push_back(word);
+  }
+  return words;
+}
+
+std::optional<std::int64_t>
+ParseInteger(const std::string & text)
+{
+  std::istringstream stream(text);
+  std::int64_t       value = 0;
+  if (!(stream >> value) || !(stream >> std::ws).eof())
+  {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::uint64_t
+SaturatingProduct(std::uint64_t a, std::uint64_t b)
+{
+  return a != 0 && b > Saturated / a ? Saturated : a * b;
+}
+
+/** The product of the sizes in \a text ("256 256 128") times \a bytesPerValue, or nothing when a size is not a
+ * whole number >= 0. */
+std::optional<std::uint64_t>
+DataBytesOf(const std::vector<std::string> & sizes, std::uint64_t bytesPerValue)
+{
+  std::uint64_t bytes = bytesPerValue;
+  for (const std::string & text : sizes)
+  {
+    const std::optional<std::int64_t> size = ParseInteger(text);
+    if (!size || *size < 0)
+    {
+      return std::nullopt;
+    }
+    bytes = SaturatingProduct(bytes, static_cast<std::uint64_t>(*size));
+  }
+  return bytes;
+}
+
+/** A file's lines with the byte offset after each, reading no further than asked. */
+class LineReader
+{
+public:
+  explicit LineReader(const fs::path & path)
+    : m_Stream(path, std::ios::binary)
+  {}
+
+  bool
+  IsOpen() const
+  {
+    return m_Stream.is_open();
+  }
+
+  /** The next line without its line end ('\n' or "\r\n"); false at the end of the file. */
+  bool
+  Next(std::string & line)
+  {
+    if (!std::getline(m_Stream, line))
+    {
+      return false;
+    }
+    m_Offset += line.size() + (m_Stream.eof() ? 0 : 1);
+    if (!line.empty() && line.back() == '\r')
+    {
+      line.pop_back();
+    }
+    return true;
+  }
+
+  /** Bytes read so far: where the next line starts. */
+  std::uint64_t
+  Offset() const
+  {
+    return m_Offset;
+  }
+
+  /** Whether the last line ended with a line end (false when the file ended within it). */
+  bool
+  LineEnded() const
+  {
+    return !m_Stream.eof();
+  }
+
+  /** Skips \a count lines from \a offset on and returns the offset after them (the file's size if it has fewer). */
+  static std::uint64_t
+  SkipLines(const fs::path & path, std::uint64_t offset, std::uint64_t count)
+  {
+    std::error_code error;
+    if (count == 0 || !fs::is_regular_file(path, error))
+    {
+      return offset;
+    }
+    LineReader reader(path);
+    reader.m_Stream.seekg(static_cast<std::streamoff>(offset));
+    reader.m_Offset = offset;
+    std::string line;
+    for (std::uint64_t skipped = 0; skipped < count && reader.Next(line); ++skipped)
+    {}
+    return reader.m_Offset;
+  }
+
+private:
+  std::ifstream m_Stream;
+  std::uint64_t m_Offset{ 0 };
+};
+
+/** \a name relative to the directory of \a header, unless it is absolute. */
+fs::path
+Beside(const fs::path & header, const std::string & name)
+{
+  const fs::path file(name);
+  return file.is_absolute() ? file : header.parent_path() / file;
+}
+
+/** The names of a numbered series, "slice%03d.raw 1 10 1": a printf pattern with one integer conversion, then
+ * the first and last numbers and the step. Nothing when \a words are not such a series. */
+std::optional<std::vector<std::string>>
+NumberedFiles(const std::vector<std::string> & words)
+{
+  if (words.size() < 4 || words[0].find('%') == std::string::npos)
+  {
+    return std::nullopt;
+  }
+  const std::string & pattern = words[0];
+  const size_t        percent = pattern.find('%');
+  size_t              end = percent + 1;
+  const bool          zeros = end < pattern.size() && pattern[end] == '0';
+  while (end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[end])))
+  {
+    ++end;
+  }
+  if (end >= pattern.size() || (pattern[end] != 'd' && pattern[end] != 'i' && pattern[end] != 'u') ||
+      pattern.find('%', end) != std::string::npos)
+  {
+    return std::nullopt;
+  }
+  const std::string widthText = pattern.substr(percent + 1, end - percent - 1);
+  if (widthText.size() > 2)
+  {
+    return std::nullopt;
+  }
+  const size_t                      width = widthText.empty() ? 0 : std::stoul(widthText);
+  const std::optional<std::int64_t> first = ParseInteger(words[1]);
+  const std::optional<std::int64_t> last = ParseInteger(words[2]);
+  const std::optional<std::int64_t> step = ParseInteger(words[3]);
+  // Bounds that keep the arithmetic below far from overflowing.
+  constexpr std::int64_t Bound = 1000000000000;
+  const auto             bounded = [](std::optional<std::int64_t> v) { return v && *v >= -Bound && *v <= Bound; };
+  if (!bounded(first) || !bounded(last) || !bounded(step) || *step == 0 || (*last - *first) / *step < 0 ||
+      static_cast<std::uint64_t>((*last - *first) / *step) >= MaximumDataFiles)
+  {
+    return std::nullopt;
+  }
+  std::vector<std::string> names;
+  const std::int64_t       count = (*last - *first) / *step + 1;
+  for (std::int64_t i = 0; i < count; ++i)
+  {
+    const std::int64_t number = *first + i * *step;
+    const std::string  sign = number < 0 ? "-" : "";
+    const std::string  digits = std::to_string(number < 0 ? -number : number);
+    const size_t       used = sign.size() + digits.size();
+    const std::string  padding(used < width ? width - used : 0, zeros ? '0' : ' ');
+    names.push_back(pattern.substr(0, percent) + (zeros ? sign + padding : padding + sign) + digits +
+                    pattern.substr(end + 1));
+  }
+  return names;
+}
+
+void
+AddFile(ImageFileParts & parts, const fs::path & file)
+{
+  if (std::find(parts.Files.begin(), parts.Files.end(), file) == parts.Files.end())
+  {
+    parts.Files.push_back(file);
+  }
+}
+
+/** Bytes per value of a NRRD type name, 0 for an unknown one or "block". */
+std::uint64_t
+NrrdTypeBytes(const std::string & type)
+{
+  static const std::map<std::string, std::uint64_t> Sizes = {
+    { "signed char", 1 },
+    { "int8", 1 },
+    { "int8_t", 1 },
+    { "uchar", 1 },
+    { "unsigned char", 1 },
+    { "uint8", 1 },
+    { "uint8_t", 1 },
+    { "short", 2 },
+    { "short int", 2 },
+    { "signed short", 2 },
+    { "signed short int", 2 },
+    { "int16", 2 },
+    { "int16_t", 2 },
+    { "ushort", 2 },
+    { "unsigned short", 2 },
+    { "unsigned short int", 2 },
+    { "uint16", 2 },
+    { "uint16_t", 2 },
+    { "int", 4 },
+    { "signed int", 4 },
+    { "int32", 4 },
+    { "int32_t", 4 },
+    { "uint", 4 },
+    { "unsigned int", 4 },
+    { "uint32", 4 },
+    { "uint32_t", 4 },
+    { "longlong", 8 },
+    { "long long", 8 },
+    { "long long int", 8 },
+    { "signed long long", 8 },
+    { "signed long long int", 8 },
+    { "int64", 8 },
+    { "int64_t", 8 },
+    { "ulonglong", 8 },
+    { "unsigned long long", 8 },
+    { "unsigned long long int", 8 },
+    { "uint64", 8 },
+    { "uint64_t", 8 },
+    { "float", 4 },
+    { "double", 8 },
+  };
+  const auto found = Sizes.find(type);
+  return found == Sizes.end() ? 0 : found->second;
+}
+
+/** A NRRD header: fields "name: value" up to the first empty line (after which attached data starts), key/value
+ * pairs "key:=value" and comments skipped; a detached header's "data file" names one file, a numbered series or
+ * LIST, whose names follow to the end of the header. */
+void
+ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
+{
+  LineReader  reader(path);
+  std::string line;
+  if (!reader.Next(line) || line.compare(0, 4, "NRRD") != 0)
+  {
+    problem = "it does not start with a NRRD header (NRRD000N)";
+    return;
+  }
+  std::map<std::string, std::string> fields;
+  std::vector<std::string>           listed;
+  bool                               listing = false;
+  bool                               ended = false;
+  while (reader.Next(line))
+  {
+    if (listing)
+    {
+      if (!Trim(line).empty())
+      {
+        listed.push_back(Trim(line));
+      }
+      continue;
+    }
+    if (line.empty())
+    {
+      ended = true;
+      break;
+    }
+    const size_t colon = line.find(':');
+    if (line[0] == '#' || colon == std::string::npos || (colon + 1 < line.size() && line[colon + 1] == '='))
+    {
+      continue;
+    }
+    std::string name = line.substr(0, colon);
+    name.erase(std::remove(name.begin(), name.end(), ' '), name.end());
+    const std::string value = Trim(line.substr(colon + 1));
+    fields[name] = value;
+    listing = name == "datafile" && value.compare(0, 4, "LIST") == 0;
+  }
+  const std::uint64_t headerEnd = reader.Offset();
+
+  const std::string   encoding = Lower(fields["encoding"]);
+  const bool          raw = encoding == "raw";
+  const bool          deflate = encoding == "gzip" || encoding == "gz";
+  const std::uint64_t typeBytes =
+    fields["type"] == "block"
+      ? static_cast<std::uint64_t>(std::max<std::int64_t>(ParseInteger(fields["blocksize"]).value_or(0), 0))
+      : NrrdTypeBytes(fields["type"]);
+  if (typeBytes > 0)
+  {
+    parts.DataBytes = DataBytesOf(Words(fields["sizes"]), typeBytes);
+  }
+  const std::int64_t lineSkip = std::max<std::int64_t>(ParseInteger(fields["lineskip"]).value_or(0), 0);
+  const std::int64_t byteSkip = ParseInteger(fields["byteskip"]).value_or(0);
+
+  std::vector<fs::path> files;
+  const auto            dataFile = fields.find("datafile");
+  if (dataFile == fields.end())
+  {
+    if (!ended)
+    {
+      problem = "its header ends without the empty line after which the data starts";
+      return;
+    }
+  }
+  else if (listing)
+  {
+    for (const std::string & name : listed)
+    {
+      files.push_back(Beside(path, name));
+    }
+  }
+  else if (const auto numbered = NumberedFiles(Words(dataFile->second)))
+  {
+    for (const std::string & name : *numbered)
+    {
+      files.push_back(Beside(path, name));
+    }
+  }
+  else
+  {
+    files.push_back(Beside(path, dataFile->second));
+  }
+
+  const auto addSegment = [&](const fs::path & file, std::uint64_t offset) {
+    ImageDataSegment segment;
+    segment.File = file;
+    segment.Encoding = raw       ? ImageDataEncoding::Raw
+                       : deflate ? ImageDataEncoding::Deflate
+                                 : ImageDataEncoding::Unchecked;
+    segment.Offset = LineReader::SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip));
+    if (raw && byteSkip == -1)
+    {
+      segment.AtEnd = true;
+    }
+    else if (raw && byteSkip > 0)
+    {
+      segment.Offset += static_cast<std::uint64_t>(byteSkip);
+    }
+    else if (deflate && byteSkip > 0)
+    {
+      segment.InflatedOffset = static_cast<std::uint64_t>(byteSkip);
+    }
+    parts.Data.push_back(segment);
+  };
+  if (files.empty() && dataFile == fields.end())
+  {
+    addSegment(path, headerEnd);
+  }
+  for (const fs::path & file : files)
+  {
+    AddFile(parts, file);
+    addSegment(file, 0);
+  }
+}
+
+/** Bytes per value of a MetaImage element type, 0 for one the tools do not know. */
+std::uint64_t
+MetaTypeBytes(const std::string & type)
+{
+  static const std::map<std::string, std::uint64_t> Sizes = {
+    { "MET_CHAR", 1 }, { "MET_UCHAR", 1 }, { "MET_SHORT", 2 },  { "MET_USHORT", 2 },    { "MET_INT", 4 },
+    { "MET_UINT", 4 }, { "MET_FLOAT", 4 }, { "MET_DOUBLE", 8 }, { "MET_LONG_LONG", 8 }, { "MET_ULONG_LONG", 8 },
+  };
+  const auto found = Sizes.find(type);
+  return found == Sizes.end() ? 0 : found->second;
+}
+
+/** A MetaImage header: "Key = Value" lines up to ElementDataFile, the last field; LOCAL data follows it in the
+ * same file, otherwise it names one file, a numbered series or LIST, whose names follow. */
+void
+ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & problem)
+{
+  LineReader                         reader(path);
+  std::map<std::string, std::string> fields;
+  std::string                        line;
+  bool                               found = false;
+  while (!found && reader.Next(line))
+  {
+    const size_t equals = line.find('=');
+    if (equals == std::string::npos)
+    {
+      continue;
+    }
+    const std::string key = Trim(line.substr(0, equals));
+    fields[key] = Trim(line.substr(equals + 1));
+    found = key == "ElementDataFile";
+  }
+  if (!found)
+  {
+    problem = "its header ends before ElementDataFile, its last field";
+    return;
+  }
+  const std::uint64_t headerEnd = reader.Offset();
+  const bool          ended = reader.LineEnded();
+
+  const std::vector<std::string>    sizes = Words(fields["DimSize"]);
+  const std::optional<std::int64_t> dimensions = ParseInteger(fields["NDims"]);
+  const std::optional<std::int64_t> channels = fields.count("ElementNumberOfChannels")
+                                                 ? ParseInteger(fields["ElementNumberOfChannels"])
+                                                 : std::optional<std::int64_t>(1);
+  const std::uint64_t               typeBytes = MetaTypeBytes(fields["ElementType"]);
+  if (typeBytes > 0 && dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size() && channels &&
+      *channels >= 1)
+  {
+    parts.DataBytes = DataBytesOf(std::vector<std::string>(sizes.begin(), sizes.begin() + *dimensions),
+                                  SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
+  }
+  const bool         compressed = Lower(fields["CompressedData"]) == "true";
+  const std::int64_t headerSize = ParseInteger(fields["HeaderSize"]).value_or(0);
+
+  const std::string              value = fields["ElementDataFile"];
+  const std::vector<std::string> words = Words(value);
+  std::vector<fs::path>          files;
+  if (Lower(value) == "local")
+  {
+    if (!ended)
+    {
+      problem = "its header ends without a line end after ElementDataFile = LOCAL";
+      return;
+    }
+    ImageDataSegment segment;
+    segment.File = path;
+    segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
+    segment.Offset = headerEnd;
+    parts.Data.push_back(segment);
+    return;
+  }
+  if (!words.empty() && words[0] == "LIST")
+  {
+    while (reader.Next(line))
+    {
+      if (!Trim(line).empty())
+      {
+        files.push_back(Beside(path, Trim(line)));
+      }
+    }
+  }
+  else if (const auto numbered = NumberedFiles(words))
+  {
+    for (const std::string & name : *numbered)
+    {
+      files.push_back(Beside(path, name));
+    }
+  }
+  else
+  {
+    files.push_back(Beside(path, value));
+  }
+  for (const fs::path & file : files)
+  {
+    AddFile(parts, file);
+    ImageDataSegment segment;
+    segment.File = file;
+    segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
+    segment.AtEnd = !compressed && headerSize == -1;
+    segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : 0;
+    parts.Data.push_back(segment);
+  }
+}
+
+/** Reads the first \a count bytes of \a path, through gzip when it is compressed. */
+std::vector<unsigned char>
+ReadStart(const fs::path & path, size_t count)
+{
+  std::vector<unsigned char> bytes(count);
+  gzFile                     file = gzopen(path.string().c_str(), "rb");
+  if (file == nullptr)
+  {
+    return {};
+  }
+  const int got = gzread(file, bytes.data(), static_cast<unsigned int>(count));
+  gzclose(file);
+  bytes.resize(got > 0 ? static_cast<size_t>(got) : 0);
+  return bytes;
+}
+
+/** A field of a NIfTI header, byte-swapped when the file's byte order is not the machine's. */
+template <typename T>
+T
+FieldAt(const std::vector<unsigned char> & header, size_t offset, bool swapped)
+{
+  std::array<unsigned char, sizeof(T)> bytes;
+  std::memcpy(bytes.data(), header.data() + offset, sizeof(T));
+  if (swapped)
+  {
+    std::reverse(bytes.begin(), bytes.end());
+  }
+  T value;
+  std::memcpy(&value, bytes.data(), sizeof(T));
+  return value;
+}
+
+/** A NIfTI-1 (or Analyze) or NIfTI-2 header, read through gzip for .nii.gz: the dimensions, the bits per voxel
+ * and where the voxels start; .nii files hold their voxels, .hdr files name .img files that do. */
+void
+ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
+{
+  const std::string name = Lower(path.filename().string());
+  const bool        pair = EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz");
+  fs::path          header = path;
+  fs::path          data = path;
+  const auto        sibling = [&](const fs::path & of, const std::string & from, const std::string & to) {
+    std::string text = of.string();
+    text.replace(text.size() - from.size(), from.size(), to);
+    return fs::path(text);
+  };
+  const auto firstExisting = [](const std::vector<fs::path> & candidates) {
+    std::error_code error;
+    for (const fs::path & candidate : candidates)
+    {
+      if (fs::exists(candidate, error))
+      {
+        return candidate;
+      }
+    }
+    return candidates.front();
+  };
+  if (pair)
+  {
+    const std::string suffix = EndsWith(name, ".gz") ? ".hdr.gz" : ".hdr";
+    data = firstExisting({ sibling(path, suffix, ".img"), sibling(path, suffix, ".img.gz") });
+  }
+  else if (EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
+  {
+    const std::string suffix = EndsWith(name, ".gz") ? ".img.gz" : ".img";
+    header = firstExisting({ sibling(path, suffix, ".hdr"), sibling(path, suffix, ".hdr.gz") });
+  }
+  parts.Files = { header };
+  AddFile(parts, data);
+
+  const std::vector<unsigned char> bytes = ReadStart(header, 540);
+  if (bytes.size() < 348)
+  {
+    problem = "its header is cut short (" + std::to_string(bytes.size()) + " of at least 348 bytes)";
+    return;
+  }
+  const std::int32_t size = FieldAt<std::int32_t>(bytes, 0, false);
+  const bool         swapped = size != 348 && size != 540;
+  const std::int32_t headerBytes = FieldAt<std::int32_t>(bytes, 0, swapped);
+  if (headerBytes != 348 && headerBytes != 540)
+  {
+    problem = "its header does not start with the size of a NIfTI header (348 or 540)";
+    return;
+  }
+  if (headerBytes == 540 && bytes.size() < 540)
+  {
+    problem = "its NIfTI-2 header is cut short (" + std::to_string(bytes.size()) + " of 540 bytes)";
+    return;
+  }
+  const bool nifti2 = headerBytes == 540;
+  const auto dimension = [&](int i) {
+    return nifti2 ? FieldAt<std::int64_t>(bytes, 16 + 8 * i, swapped)
+                  : FieldAt<std::int16_t>(bytes, 40 + 2 * i, swapped);
+  };
+  const std::int64_t bitsPerVoxel = FieldAt<std::int16_t>(bytes, nifti2 ? 14 : 72, swapped);
+  const std::int64_t dimensions = dimension(0);
+  if (dimensions >= 1 && dimensions <= 7 && bitsPerVoxel > 0 && bitsPerVoxel % 8 == 0)
+  {
+    std::vector<std::string> sizes;
+    for (int i = 1; i <= dimensions; ++i)
+    {
+      sizes.push_back(std::to_string(dimension(i)));
+    }
+    parts.DataBytes = DataBytesOf(sizes, static_cast<std::uint64_t>(bitsPerVoxel / 8));
+  }
+  std::uint64_t voxelOffset = 0;
+  if (nifti2)
+  {
+    voxelOffset = static_cast<std::uint64_t>(std::max<std::int64_t>(FieldAt<std::int64_t>(bytes, 168, swapped), 0));
+  }
+  else
+  {
+    const float offset = FieldAt<float>(bytes, 108, swapped);
+    voxelOffset = std::isfinite(offset) && offset > 0.0f && offset < 1e15f ? static_cast<std::uint64_t>(offset) : 0;
+  }
+  if (!pair && header == data)
+  {
+    // A single file's voxels never start inside its header.
+    voxelOffset = std::max<std::uint64_t>(voxelOffset, static_cast<std::uint64_t>(headerBytes));
+  }
+  ImageDataSegment segment;
+  segment.File = data;
+  if (EndsWith(Lower(data.filename().string()), ".gz"))
+  {
+    segment.Encoding = ImageDataEncoding::Deflate;
+    segment.InflatedOffset = voxelOffset;
+  }
+  else
+  {
+    segment.Offset = voxelOffset;
+  }
+  parts.Data.push_back(segment);
+}
+} // namespace
+
+ImageFileParts
+FindImageFileParts(const fs::path & path, std::string & problem)
+{
+  problem.clear();
+  ImageFileParts    parts;
+  const std::string name = Lower(path.filename().string());
+  parts.Files = { path };
+  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+  {
+    parts.Format = ImageFileFormat::Nrrd;
+    ReadNrrd(path, parts, problem);
+  }
+  else if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
+  {
+    parts.Format = ImageFileFormat::MetaImage;
+    ReadMetaImage(path, parts, problem);
+  }
+  else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz") ||
+           EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
+  {
+    parts.Format = ImageFileFormat::Nifti;
+    ReadNifti(path, parts, problem);
+  }
+  else if (EndsWith(name, ".png"))
+  {
+    parts.Format = ImageFileFormat::Png;
+  }
+  return parts;
+}
+} // namespace sic

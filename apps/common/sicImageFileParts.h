@@ -1,0 +1,87 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef sicImageFileParts_h
+#define sicImageFileParts_h
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sic
+{
+/** How a stretch of an image file's voxels is stored. */
+enum class ImageDataEncoding
+{
+  /** The voxels' bytes as they are. */
+  Raw,
+  /** One or more zlib or gzip streams that inflate to the voxels. */
+  Deflate,
+  /** An encoding the tools do not check (NRRD's ascii, hex or bzip2): ITK's reader alone does. */
+  Unchecked
+};
+
+/** One file's share of an image's voxels. */
+struct ImageDataSegment
+{
+  std::filesystem::path File;
+  ImageDataEncoding     Encoding{ ImageDataEncoding::Raw };
+  /** Bytes of File before the data: the header, NRRD's line skip and (raw) byte skip. */
+  std::uint64_t Offset{ 0 };
+  /** The voxels are the last bytes of File (NRRD's byte skip -1, MetaImage's HeaderSize -1). */
+  bool AtEnd{ false };
+  /** Deflate only: bytes of the inflated data before the voxels (NIfTI's vox_offset in a .nii.gz, NRRD's byte
+   * skip of compressed data). */
+  std::uint64_t InflatedOffset{ 0 };
+};
+
+/** The image file formats whose files the tools check themselves. */
+enum class ImageFileFormat
+{
+  Nrrd,
+  MetaImage,
+  Nifti,
+  Png,
+  /** Any other format: ITK's reader and writer alone check it. */
+  Other
+};
+
+/** The files an image consists of and where its voxels are, as its header says. */
+struct ImageFileParts
+{
+  ImageFileFormat Format{ ImageFileFormat::Other };
+  /** The header file first, then every other file it names, each once. */
+  std::vector<std::filesystem::path> Files;
+  /** Where the voxels are, in order; empty for a format whose header the tools do not read. */
+  std::vector<ImageDataSegment> Data;
+  /** The size of the voxels in bytes, as the header describes them (sizes times bytes per voxel), when it says;
+   * the largest 64-bit number when that product overflows. */
+  std::optional<std::uint64_t> DataBytes;
+};
+
+/** The parts of the image file \a path, its format known by its extension as ITK knows it: for NRRD (.nrrd,
+ * .nhdr), MetaImage (.mha, .mhd) and NIfTI (.nii, .nii.gz, .hdr + .img), read from its header (data files are
+ * relative to the header's directory); for every other format the file alone, with no Data. Data files are named
+ * whether or not they exist. Sets \a problem, saying why (e.g. "its header is cut short"), when the header of one of
+ * those formats cannot be read. */
+ImageFileParts
+FindImageFileParts(const std::filesystem::path & path, std::string & problem);
+} // namespace sic
+
+#endif

@@ -1,0 +1,341 @@
+#!/usr/bin/env python3
+# Copyright SmallIsoComponent contributors. Licensed under the Apache License, Version 2.0.
+"""Tests of the tools under bad input and faults, run by CTest one test method at a time: a full
+disk, inputs whose data files outputs could overwrite, truncated and corrupt inputs, termination
+signals, empty images, FIFOs, long file names, headers that promise more data than there is.
+The full-disk tests mount a small tmpfs, so they need root; elsewhere they are skipped, saying so.
+
+Environment (set by apps/test/CMakeLists.txt):
+  SIC_FILTER, SIC_REPORT  the tools
+  SIC_PROBE               the SmallIsoComponentCLITestProbe executable (makes test images)
+  SIC_SCRATCH             a directory for the tests' files
+"""
+import os
+import random
+import resource
+import signal
+import struct
+import subprocess
+import time
+import unittest
+import zlib
+
+from sic_tool_test import ToolTestCase, digest, noise, run, write_nrrd
+
+FILTER = os.environ.get("SIC_FILTER", "")
+REPORT = os.environ.get("SIC_REPORT", "")
+PROBE = os.environ.get("SIC_PROBE", "")
+# The probe's test images: isovalue 50 separates background from object.
+TEST_ISOVALUE = "50"
+
+
+def write_metaimage(path, sizes, data, compressed=False, data_file="LOCAL"):
+    """A MetaImage file written by hand (int16), its data attached (LOCAL) or in data_file."""
+    payload = zlib.compress(data) if compressed else data
+    header = ("ObjectType = Image\nNDims = %d\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+              "CompressedData = %s\n%sDimSize = %s\nElementType = MET_SHORT\nElementDataFile = %s\n") % (
+        len(sizes), "True" if compressed else "False",
+        "CompressedDataSize = %d\n" % len(payload) if compressed else "", " ".join(str(s) for s in sizes), data_file)
+    if data_file == "LOCAL":
+        with open(path, "wb") as file:
+            file.write(header.encode() + payload)
+    else:
+        with open(path, "w") as file:
+            file.write(header)
+        with open(os.path.join(os.path.dirname(path), data_file), "wb") as file:
+            file.write(payload)
+
+
+def write_nifti(path, sizes, data):
+    """A single-file NIfTI-1 image (int16) written by hand: 348-byte header, 4 bytes of extension
+    flags, then the voxels at offset 352."""
+    header = bytearray(348)
+    struct.pack_into("<i", header, 0, 348)
+    dims = [len(sizes)] + list(sizes) + [1] * (7 - len(sizes))
+    struct.pack_into("<8h", header, 40, *dims)
+    struct.pack_into("<hh", header, 70, 4, 16)  # datatype int16, 16 bits per voxel
+    struct.pack_into("<8f", header, 76, 1, *([1.0] * 7))
+    struct.pack_into("<f", header, 108, 352.0)
+    struct.pack_into("<f", header, 112, 1.0)  # scl_slope
+    header[344:348] = b"n+1\0"
+    with open(path, "wb") as file:
+        file.write(bytes(header) + b"\0" * 4 + data)
+
+
+def ball(size):
+    """An int16 image of size³ voxels (a ball of 1000 in a background of 0, plus noise of 0 to 3), that gzip
+    shrinks to a tenth."""
+    noisy = random.Random(3)
+    centre, radius = size // 2, size * 5 // 16
+    values = [1000 * ((x - centre) ** 2 + (y - centre) ** 2 + (z - centre) ** 2 < radius ** 2) + noisy.randrange(4)
+              for z in range(size) for y in range(size) for x in range(size)]
+    return struct.pack("<%dh" % len(values), *values)
+
+
+def truncate_to_half(path):
+    with open(path, "rb") as file:
+        data = file.read()
+    with open(path, "wb") as file:
+        file.write(data[:len(data) // 2])
+
+
+def flip_bytes(path, start, count):
+    with open(path, "rb") as file:
+        data = bytearray(file.read())
+    for i in range(start, start + count):
+        data[i] ^= 0xFF
+    with open(path, "wb") as file:
+        file.write(data)
+
+
+class SmallIsoComponentRobustnessTest(ToolTestCase):
+    def make_image(self, name, pixel_type="int16", dimension=3):
+        path = self.path(name)
+        self.check(run(PROBE, "make", path, pixel_type, dimension))
+        return path
+
+    def noise_image(self, name="noise.nrrd", size=64):
+        """An int16 image of random voxels, as large compressed as raw: 2 × size³ bytes."""
+        path = self.path(name)
+        write_nrrd(path, [size] * 3, noise(2 * size ** 3))
+        return path
+
+    def listing(self, directory=None):
+        return sorted(os.listdir(directory or self.dir))
+
+    # 1. A full disk: nothing is renamed into place unless it was written completely.
+
+    def test_full_disk_leaves_no_output(self):
+        source = self.noise_image()
+        for extension in (".mha", ".mhd", ".nii", ".nii.gz", ".nrrd", ".nhdr"):
+            with self.subTest(extension=extension):
+                disk = self.small_disk("disk" + extension.replace(".", "-"))
+                output = os.path.join(disk, "o" + extension)
+                self.assertUsageError(run(FILTER, source, output, "--isovalue", "0", "--quiet"), "o" + extension)
+                self.assertEqual(self.listing(disk), [], "nothing may be left on the full disk")
+
+    def test_full_disk_for_the_mask_statistics_and_report(self):
+        source = self.noise_image(size=32)
+        disk = self.small_disk("disk", full=True)
+        filtered = [FILTER, source, self.path("out.nrrd"), "--isovalue", "0", "--quiet"]
+        cases = [
+            (filtered + ["--removed-mask", os.path.join(disk, "mask.mha")], "mask.mha"),
+            (filtered + ["--removed-mask", os.path.join(disk, "mask.nii")], "mask.nii"),
+            (filtered + ["--stats", os.path.join(disk, "stats.json")], "stats.json"),
+            ([REPORT, source, "--isovalue", "0", "--no-surfaces", "--output", os.path.join(disk, "report.csv")],
+             "report.csv"),
+        ]
+        for arguments, name in cases:
+            with self.subTest(name=name):
+                self.assertUsageError(run(*arguments), name)
+                self.assertEqual(self.listing(disk), ["filler"])
+                self.assertFalse(os.path.exists(self.path("out.nrrd")))
+
+    def test_full_disk_for_the_plot(self):
+        source = self.noise_image(size=32)
+        disk = self.small_disk("disk", size="64k")
+        result = run(REPORT, source, "--isovalue", "0", "--no-surfaces", "--plot", os.path.join(disk, "plot.png"))
+        if "gnuplot" in result.stderr and "not on PATH" in result.stderr:
+            self.skipTest("skipped: gnuplot is not installed")
+        self.assertUsageError(result, "plot.png")
+        self.assertEqual(self.listing(disk), [])
+
+    # 2. No output may write over any file of the input, its data files included.
+
+    def test_outputs_never_write_over_the_inputs_data_files(self):
+        data = noise(2 * 8 ** 3)
+        detached = self.path("det.nhdr")
+        write_nrrd(detached, [8, 8, 8], data, data_file="det.raw")
+        gzipped = self.path("gz.nhdr")
+        write_nrrd(gzipped, [8, 8, 8], data, encoding="gzip", data_file="victim.raw.gz")
+        meta = self.path("meta.mhd")
+        write_metaimage(meta, [8, 8, 8], data, compressed=True, data_file="victim2.zraw")
+        pictured = self.path("pic.nhdr")
+        write_nrrd(pictured, [8, 8, 8], data, data_file="plot.png")
+        cases = [
+            (FILTER, detached, [self.path("o.nrrd"), "--stats", self.path("det.raw")], "det.raw"),
+            (FILTER, detached, [self.path("o.nrrd"), "--removed-mask", self.path("det.raw")], "det.raw"),
+            (FILTER, detached, [self.path("det.raw")], "det.raw"),
+            (FILTER, gzipped, [self.path("victim.nhdr")], "victim.raw.gz"),
+            (FILTER, meta, [self.path("victim2.mhd")], "victim2.zraw"),
+            (FILTER, meta, [self.path("o.nrrd"), "--removed-mask", self.path("victim2.mhd")], "victim2.zraw"),
+            (REPORT, detached, ["--output", self.path("det.raw")], "det.raw"),
+            (REPORT, pictured, ["--plot", self.path("plot.png")], "plot.png"),
+        ]
+        before = self.listing()
+        digests = {name: digest(self.path(name)) for name in before}
+        for tool, source, arguments, victim in cases:
+            with self.subTest(source=source, arguments=arguments):
+                options = ["--quiet"] if tool == FILTER else ["--no-surfaces"]
+                result = run(tool, source, *arguments, "--isovalue", "0", *options)
+                if tool == REPORT and "gnuplot" in result.stderr and "not on PATH" in result.stderr:
+                    continue
+                self.assertUsageError(result, "data file of the input image", victim)
+                self.assertEqual(self.listing(), before)
+                self.assertEqual({name: digest(self.path(name)) for name in before}, digests)
+
+    def test_outputs_whose_files_collide_are_refused(self):
+        source = self.make_image("in.nrrd")
+        # out.nhdr writes its voxels to out.raw.gz, which is also where the statistics go.
+        result = run(FILTER, source, self.path("out.nhdr"), "--isovalue", TEST_ISOVALUE, "--quiet",
+                     "--stats", self.path("out.raw.gz"))
+        self.assertUsageError(result, "both write", "out.raw.gz")
+        self.assertEqual(self.listing(), ["in.nrrd"])
+
+    # 3, 4, 9. Incomplete and corrupt inputs are refused before anything is allocated.
+
+    def test_truncated_inputs_are_refused(self):
+        data = noise(2 * 16 ** 3)
+        cases = []
+        for name, write in [
+            ("raw.mha", lambda p: write_metaimage(p, [16] * 3, data)),
+            ("zlib.mha", lambda p: write_metaimage(p, [16] * 3, data, compressed=True)),
+            ("raw.nrrd", lambda p: write_nrrd(p, [16] * 3, data)),
+            ("gzip.nrrd", lambda p: write_nrrd(p, [16] * 3, data, encoding="gzip")),
+            ("raw.nii", lambda p: write_nifti(p, [16] * 3, data)),
+        ]:
+            write(self.path(name))
+            cases.append(self.path(name))
+        for name in ("itk.nii", "itk.nii.gz", "itk.mha"):
+            cases.append(self.make_image(name))
+        write_metaimage(self.path("detached.mhd"), [16] * 3, data, data_file="detached.raw")
+        cases.append((self.path("detached.mhd"), self.path("detached.raw")))
+        for case in cases:
+            header, data_file = case if isinstance(case, tuple) else (case, case)
+            with self.subTest(input=os.path.basename(data_file)):
+                self.check(run(FILTER, header, self.path("whole.nrrd"), "--isovalue", "0", "--quiet"))
+                os.remove(self.path("whole.nrrd"))
+                truncate_to_half(data_file)
+                before = self.listing()
+                self.assertUsageError(run(FILTER, header, self.path("o.nrrd"), "--isovalue", "0", "--quiet"),
+                                      "incomplete", os.path.basename(header))
+                self.assertUsageError(run(REPORT, header, "--isovalue", "0", "--no-surfaces"), "incomplete")
+                self.assertEqual(self.listing(), before)
+
+    def test_corrupt_compressed_inputs_are_refused(self):
+        data = noise(2 * 32 ** 3)
+        gzip_nrrd = self.path("flipped.nrrd")
+        # Compressible data, as in real volumes: the flipped bytes still inflate to enough voxels, and ITK's NRRD
+        # reader stops before the checksum that would show them wrong.
+        write_nrrd(gzip_nrrd, [32] * 3, ball(32), encoding="gzip")
+        crc_nrrd = self.path("crc.nrrd")
+        write_nrrd(crc_nrrd, [32] * 3, data, encoding="gzip")
+        zlib_mha = self.path("adler.mha")
+        write_metaimage(zlib_mha, [32] * 3, data, compressed=True)
+        nifti = self.make_image("crc.nii.gz")
+        size = os.path.getsize(gzip_nrrd)
+        cases = [
+            (gzip_nrrd, size // 2, 2000),  # 2,000 flipped bytes in the second half of the gzip data
+            (crc_nrrd, os.path.getsize(crc_nrrd) - 8, 4),  # the gzip trailer's CRC-32 alone
+            (zlib_mha, os.path.getsize(zlib_mha) - 4, 4),  # the zlib stream's Adler-32
+            (nifti, os.path.getsize(nifti) - 8, 4),
+        ]
+        for path, start, count in cases:
+            with self.subTest(input=os.path.basename(path)):
+                self.check(run(FILTER, path, self.path("whole.nrrd"), "--isovalue", "0", "--quiet"))
+                os.remove(self.path("whole.nrrd"))
+                flip_bytes(path, start, count)
+                before = self.listing()
+                self.assertUsageError(run(FILTER, path, self.path("o.nrrd"), "--isovalue", "0", "--quiet"),
+                                      "corrupt", os.path.basename(path))
+                self.assertEqual(self.listing(), before)
+
+    def test_header_promising_more_data_than_its_file_holds(self):
+        # 1700 × 1000 × 1000 int16 voxels are 3.4 GB; the data files hold 10 bytes.
+        sizes = [1700, 1000, 1000]
+        write_nrrd(self.path("big.nhdr"), sizes, b"0123456789", data_file="big.raw")
+        write_metaimage(self.path("big.mhd"), sizes, b"0123456789", data_file="big-meta.raw")
+        write_metaimage(self.path("big.mha"), sizes, b"0123456789")
+        write_nifti(self.path("big.nii"), sizes, b"0123456789")
+        for name, holds in (("big.nhdr", "10 bytes"), ("big.mhd", "10 bytes"), ("big.mha", "10 bytes"),
+                            ("big.nii", "10 bytes")):
+            with self.subTest(input=name):
+                self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "0", "--quiet"),
+                                      "incomplete", "holds " + holds, "3400000000 bytes")
+        # Refused before the voxels were allocated: no tool run here came near their size.
+        peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+        self.assertLess(peak_kib, 1024 * 1024, "a tool run used %d MiB" % (peak_kib // 1024))
+
+    # 5. Termination signals remove the staged outputs, then end the tool as the signal would.
+
+    def test_termination_signals_remove_staged_outputs(self):
+        # Large enough that the tool is still at work when the signal comes.
+        source = self.path("large.nrrd")
+        write_nrrd(source, [200, 200, 200], noise(2 * 200 ** 3))
+        for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+            with self.subTest(signal=number.name):
+                outputs = [self.path("out.nrrd"), self.path("mask.nrrd"), self.path("stats.json")]
+                process = subprocess.Popen([FILTER, source, outputs[0], "--isovalue", "0", "--removed-mask",
+                                            outputs[1], "--stats", outputs[2], "--quiet"],
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                deadline = time.monotonic() + 60
+                while len(self.staging_leftovers(self.dir)) < 3 and process.poll() is None:
+                    self.assertLess(time.monotonic(), deadline, "the staging directories never appeared")
+                    time.sleep(0.01)
+                process.send_signal(number)
+                _, stderr = process.communicate(timeout=120)
+                self.assertEqual(process.returncode, -number, stderr.decode(errors="replace"))
+                self.assertEqual(self.staging_leftovers(self.dir), [])
+                for output in outputs:
+                    self.assertFalse(os.path.exists(output), output)
+
+    # 6. An empty image is refused by both tools.
+
+    def test_empty_image_is_refused(self):
+        empty = self.path("empty.mha")
+        with open(empty, "w") as file:
+            file.write("ObjectType = Image\nNDims = 3\nBinaryData = True\nDimSize = 0 10 10\n"
+                       "ElementType = MET_SHORT\nElementDataFile = LOCAL\n")
+        self.assertUsageError(run(FILTER, empty, self.path("o.nrrd"), "--isovalue", "0"), "is empty", "0 x 10 x 10")
+        self.assertUsageError(run(REPORT, empty, "--isovalue", "0"), "is empty", "0 x 10 x 10")
+        self.assertEqual(self.listing(), ["empty.mha"])
+
+    # 8. FIFOs, long names, --threads, the plot's extension.
+
+    def test_fifo_input_is_refused(self):
+        if not hasattr(os, "mkfifo"):
+            self.skipTest("skipped: this platform has no FIFOs")
+        fifo = self.path("fifo.nrrd")
+        os.mkfifo(fifo)
+        self.assertUsageError(run(FILTER, fifo, self.path("o.nrrd"), "--isovalue", "0", timeout=60), "not a regular file")
+        self.assertUsageError(run(REPORT, fifo, "--isovalue", "0", timeout=60), "not a regular file")
+        # A detached header whose data file is a FIFO.
+        os.mkfifo(self.path("fifo.raw"))
+        with open(self.path("fifo.nhdr"), "w") as file:
+            file.write("NRRD0004\ntype: short\ndimension: 3\nsizes: 4 4 4\nendian: little\nencoding: raw\n"
+                       "data file: fifo.raw\n")
+        self.assertUsageError(run(FILTER, self.path("fifo.nhdr"), self.path("o.nrrd"), "--isovalue", "0", timeout=60),
+                              "fifo.raw", "not a regular file")
+
+    def test_output_names_up_to_the_longest_the_file_system_takes(self):
+        source = self.make_image("in.nrrd")
+        limit = os.pathconf(self.dir, "PC_NAME_MAX")
+        for length in (limit - 11, limit):
+            with self.subTest(length=length):
+                names = ["o" * (length - 5) + ".nrrd", "m" * (length - 4) + ".mha", "s" * (length - 5) + ".json"]
+                paths = [self.path(name) for name in names]
+                self.check(run(FILTER, source, paths[0], "--isovalue", TEST_ISOVALUE, "--quiet",
+                               "--removed-mask", paths[1], "--stats", paths[2]))
+                self.assertEqual(self.listing(), sorted(["in.nrrd"] + names))
+                for path in paths:
+                    os.remove(path)
+
+    def test_help_states_the_threads_limit(self):
+        for tool, arguments in ((FILTER, [self.path("o.nrrd")]), (REPORT, [])):
+            with self.subTest(tool=os.path.basename(tool)):
+                message = self.assertUsageError(run(tool, self.make_image("in.nrrd"), *arguments, "--isovalue", "0",
+                                                    "--threads", "100000"), "too many")
+                limit = message.rsplit(" ", 1)[-1]
+                help_text = " ".join(self.check(run(tool, "--help")).stdout.split())
+                self.assertIn("at most %s (ITK's limit)" % limit, help_text)
+
+    def test_plot_must_be_png(self):
+        source = self.make_image("in.nrrd")
+        for name in ("plot.jpg", "plot.svg", "plot"):
+            with self.subTest(name=name):
+                self.assertUsageError(run(REPORT, source, "--isovalue", "0", "--plot", self.path(name)), ".png")
+                self.assertEqual(self.listing(), ["in.nrrd"])
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
