@@ -48,6 +48,8 @@ artifacts=$build/artifacts-$name
 mkdir -p "$corpus" "$artifacts"
 cp -n "$root/test/fuzz/corpus-$name"/* "$corpus"/
 export ASAN_OPTIONS="detect_leaks=1"
+# ITK's own leaks on its error paths are suppressed as in the sanitizer runs (scripts/sanitizers/lsan.supp).
+export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1"
 echo "fuzz: running $target for $seconds s (log: $build/fuzz-$name.log)"
 set +e
@@ -55,6 +57,6 @@ set +e
   -print_final_stats=1 -artifact_prefix="$artifacts/" >"$build/fuzz-$name.log" 2>&1
 status=$?
 set -e
-grep -E '^#[0-9]+[[:space:]]+(INITED|DONE)|ERROR|SUMMARY|stat::' "$build/fuzz-$name.log" || true
+grep -E '^#[0-9]+[[:space:]]+(INITED|DONE)|^==[0-9]+==ERROR|SUMMARY|stat::' "$build/fuzz-$name.log" || true
 ls "$artifacts" | sed "s|^|fuzz: finding: $artifacts/|"
 exit "$status"
