@@ -1,10 +1,10 @@
 #-- # Grading Level Criteria Report
-#-- EVALUATION DATE: 2026-12-01
+#-- EVALUATION DATE: 2026-12-02
 #-- EVALUATORS: [<<NO EVALUATOR>>,<<NO EVALUATOR>>]
 #--
 #-- ## Compliance level 5 star (AKA ITK main modules, or remote modules that could become core modules)
 #--   - [ ] Widespread community dependance
-#--   - [ ] Above 90% code coverage
+#--   - [X] Above 90% code coverage
 #--   - [ ] CI dashboards and testing monitored rigorously
 #--   - [X] Key API features are exposed in wrapping interface
 #--   - [ ] All requirements of Levels 4,3,2,1
@@ -17,13 +17,13 @@
 #--            - [ ] Mac with clang compiler
 #--            - [X] Linux with gcc compiler
 #--   - [ ] Active developer community dedicated to maintaining code-base
-#--   - [ ] 75% C0-code coverage demonstrated for testing suite
+#--   - [X] 75% C0-code coverage demonstrated for testing suite
 #--   - [ ] Continuous integration testing performed
 #--   - [ ] All requirements of Levels 3,2,1
 #--
 #-- ## Compliance Level 3 star (Quality beta code)
 #--   - [X] API | executable interface is considered mostly stable and feature complete
-#--   - [ ] 10% C0-code coverage demonstrated for testing suite
+#--   - [X] 10% C0-code coverage demonstrated for testing suite
 #--   - [X] Some tests exist and pass on at least some platform
 #--   - [X] All requirements of Levels 2,1
 #--
@@ -47,8 +47,8 @@
 #--       Linux with GCC 12: builds and passes its tests against ITK 5.2.1 (Debian's, and
 #--       built from source with the Python wrapping by scripts/itk-from-source.sh).
 #--       Windows and macOS have not been built yet, and the CI workflows in
-#--       .github/workflows have not run yet. Code coverage has not been measured, so
-#--       level 3 and above are not claimed.
+#--       .github/workflows have not run yet, so level 4 is not claimed. Line coverage of
+#--       include/ and src/ over the whole test suite: 96.4 % (scripts/coverage.sh).
 
 itk_fetch_module(SmallIsoComponent
   "Removes the small connected components that noise leaves on either side of an
@@ -60,7 +60,7 @@ itk::SmallIsoComponentImageFilter takes scalar images of two or more dimensions,
 both sides at once with a parallel union-find over scanline runs, returns a mask of the
 changed voxels and per-side component statistics, and gives the same result for any
 number of threads."
-  MODULE_COMPLIANCE_LEVEL 2
+  MODULE_COMPLIANCE_LEVEL 3
   # Where the module is published.
   GIT_REPOSITORY https://github.com/SmallIsoComponent/ITKSmallIsoComponent.git
   # ITK pins a commit hash here when it adds the module.

@@ -432,6 +432,9 @@ MetaTypeBytes(const std::string & type)
   return found == Sizes.end() ? 0 : found->second;
 }
 
+/** The size of MetaIO's buffer for a field name: ITK's MetaImage reader aborts on longer names. */
+constexpr std::size_t MetaIOFieldNameLength = 255;
+
 /** A MetaImage header: "Key = Value" lines up to ElementDataFile, the last field; LOCAL data follows it in the
  * same file, otherwise it names one file, a numbered series or LIST, whose names follow. */
 void
@@ -449,6 +452,13 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       continue;
     }
     const std::string key = Trim(line.substr(0, equals));
+    if (key.size() >= MetaIOFieldNameLength)
+    {
+      problem = "its header has a field name of " + std::to_string(key.size()) + " characters; MetaImage field names " +
+                "have fewer than " + std::to_string(MetaIOFieldNameLength);
+      parts.UnsafeForItk = true;
+      return;
+    }
     fields[key] = Trim(line.substr(equals + 1));
     found = key == "ElementDataFile";
   }

@@ -73,6 +73,9 @@ struct ImageFileParts
   /** The size of the voxels in bytes, as the header describes them (sizes times bytes per voxel), when it says;
    * the largest 64-bit number when that product overflows. */
   std::optional<std::uint64_t> DataBytes;
+  /** Whether the header has a fault that ITK's own reader does not survive, so that it must be refused before
+   * ITK reads it (a MetaImage field name of 255 characters or more overflows MetaIO's buffer). */
+  bool UnsafeForItk{ false };
 };
 
 /** The parts of the image file \a path, its format known by its extension as ITK knows it: for NRRD (.nrrd,

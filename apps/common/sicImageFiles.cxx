@@ -107,6 +107,10 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   // for a FIFO. A header only this parser finds fault with is refused after ITK had its say.
   std::string          headerProblem;
   const ImageFileParts parts = FindImageFileParts(path, headerProblem);
+  if (parts.UnsafeForItk)
+  {
+    refuse(headerProblem);
+  }
   if (headerProblem.empty())
   {
     const std::string dataProblem = ImageFileProblem(parts);

@@ -290,6 +290,23 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         self.assertUsageError(run(REPORT, empty, "--isovalue", "0"), "is empty", "0 x 10 x 10")
         self.assertEqual(self.listing(), ["empty.mha"])
 
+    def test_metaimage_field_names_longer_than_metaio_takes_are_refused(self):
+        # ITK's MetaImage reader aborts on a field name of 255 characters or more (the fuzzer found it).
+        for length, refused in ((254, False), (255, True), (400, True)):
+            name = self.path("field-%d.mha" % length)
+            with open(name, "wb") as file:
+                file.write(("ObjectType = Image\nNDims = 3\n%s = 1\nBinaryData = True\nDimSize = 2 2 2\n"
+                            "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" % ("A" * length)).encode())
+                file.write(bytes(8))
+            result = run(FILTER, name, self.path("o-%d.mha" % length), "--isovalue", "0.5", "--quiet")
+            if refused:
+                self.assertUsageError(result, "field name of %d characters" % length)
+            else:
+                self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertUsageError(run(REPORT, self.path("field-400.mha"), "--isovalue", "0.5"), "field name of 400")
+        self.assertNotIn("o-255.mha", self.listing())
+        self.assertNotIn("o-400.mha", self.listing())
+
     # 8. FIFOs, long names, --threads, the plot's extension.
 
     def test_fifo_input_is_refused(self):
