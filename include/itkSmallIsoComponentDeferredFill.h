@@ -44,7 +44,8 @@ public:
 
   /** \a numberOfLines lines to copy from \a source to \a output (nothing to copy when they
    * are one buffer: the filter runs in place), \a outputLineBytes bytes each, and to
-   * clear in \a mask, \a maskLineBytes bytes each. */
+   * clear in \a mask, \a maskLineBytes bytes each (nothing when \a mask is null: no mask is
+   * made). */
   DeferredFill(const void *  source,
                void *        output,
                SizeValueType outputLineBytes,

@@ -77,6 +77,9 @@ namespace itk
  * Outputs: output 0 is the filtered image (spacing, origin and direction unchanged);
  * output 1, GetRemovedMask(), marks each voxel 0 (kept), 1 (removed in the above pass)
  * or 2 (removed in the below pass, including voxels the above pass had already moved).
+ * The mask is a second full-size image, so it is made only when asked for:
+ * GenerateRemovedMaskOn() (off by default, as FastMarchingImageFilter's gradient image).
+ * Otherwise output 1 keeps the image's geometry and has an empty buffered region.
  *
  * Statistics, valid after Update(): the number of components of each side, how many of
  * them were removed and how many voxels they had, the component-size histogram of each
@@ -90,7 +93,7 @@ namespace itk
  * The filter runs on its threader with the number of work units SetNumberOfWorkUnits()
  * gives; its output and statistics depend on neither that number nor the threads'.
  *
- * Memory beyond input, output and mask: 8 bytes per scanline run (a run is a maximal
+ * Memory beyond input, output and (when generated) mask: 8 bytes per scanline run (a run is a maximal
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
  * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel;
@@ -174,7 +177,14 @@ public:
   itkGetConstReferenceMacro(FullyConnected, bool);
   itkBooleanMacro(FullyConnected);
 
-  /** Mask of the removed voxels: 0 kept, 1 removed above, 2 removed below. */
+  /** Whether Update() makes the mask of the removed voxels (output 1). Default off: the
+   * filter then needs no memory for it. */
+  itkSetMacro(GenerateRemovedMask, bool);
+  itkGetConstMacro(GenerateRemovedMask, bool);
+  itkBooleanMacro(GenerateRemovedMask);
+
+  /** Mask of the removed voxels: 0 kept, 1 removed above, 2 removed below. Filled only with
+   * GenerateRemovedMaskOn(); otherwise its buffered region is empty. */
   MaskImageType *
   GetRemovedMask();
 
@@ -193,7 +203,7 @@ public:
   itkGetConstMacro(NumberOfUnrepairableVoxels, SizeValueType);
   /** K used by the last Update() (from MaximumComponentVolume when that was set last). */
   itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
-  /** Peak bytes the last Update() held beyond input, output and mask. */
+  /** Peak bytes the last Update() held beyond input, output and (when generated) mask. */
   virtual SizeValueType
   GetPeakExtraMemoryInBytes() const
   {
@@ -228,6 +238,11 @@ protected:
   void
   EnlargeOutputRequestedRegion(DataObject * output) override;
 
+  /** Allocates the output, in place when asked and possible, and the mask only when it is
+   * to be generated. */
+  void
+  AllocateOutputs() override;
+
   void
   GenerateData() override;
 
@@ -258,7 +273,8 @@ private:
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
-  /** Throws unless the input, the output and the mask are one whole image each. */
+  /** Throws unless the input, the output and (when generated) the mask are one whole
+   * image each. */
   void
   VerifyBufferedRegions();
 
@@ -299,9 +315,14 @@ private:
   std::vector<uint8_t>
   GroupBelow(const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
 
-  /** The below pass: repairs the components flagged in \a removedBelow. */
+  /** The below pass: repairs the components flagged in \a removedBelow. \a removedAbove
+   * flags the components the above pass removed: their voxels were counted as modified
+   * already. */
   void
-  RemoveBelow(WorkTeam & team, const RunLabeling & labeling, const std::vector<uint8_t> & removedBelow);
+  RemoveBelow(WorkTeam &                   team,
+              const RunLabeling &          labeling,
+              const std::vector<uint8_t> & removedBelow,
+              const std::vector<uint8_t> & removedAbove);
   /** @} */
 
   /** Counts the components of \a side in its statistics and decides which ones its pass
@@ -317,7 +338,7 @@ private:
   CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;
 
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
-   * computed from the image before the pass, marks it in the mask, and counts it.
+   * computed from the image before the pass, and marks it in the mask when there is one.
    * \a joinFlipped, if given, joins the below components next to the runs in the same
    * loop. \a heldBytes: what the caller holds meanwhile. */
   void
@@ -343,6 +364,7 @@ private:
   bool          m_UseMaximumComponentVolume{ false };
   SideEnum      m_Side{ SideEnum::Both };
   bool          m_FullyConnected{ false };
+  bool          m_GenerateRemovedMask{ false };
 
   SideStatistics                      m_AboveStatistics;
   SideStatistics                      m_BelowStatistics;

@@ -181,6 +181,25 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EnlargeOutputRequestedR
 
 template <typename TInputImage, typename TOutputImage>
 void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::AllocateOutputs()
+{
+  if (!m_GenerateRemovedMask)
+  {
+    // The mask keeps its geometry, gives back a buffer an earlier update may have left,
+    // and is allocated with no voxels.
+    MaskImageType *                    mask = this->GetRemovedMask();
+    typename MaskImageType::RegionType none = mask->GetRequestedRegion();
+    typename MaskImageType::SizeType   noSize;
+    noSize.Fill(0);
+    none.SetSize(noSize);
+    mask->Initialize();
+    mask->SetRequestedRegion(none);
+  }
+  Superclass::AllocateOutputs();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
   // The parallel steps are short: one team of threads takes them all, instead of waking
@@ -222,7 +241,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->EndPhase(groupProgress);
 
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
-  this->RemoveBelow(team, labeling, removedBelow);
+  this->RemoveBelow(team, labeling, removedBelow, above.Removed);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
 }
 
@@ -232,7 +251,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyBufferedRegions()
 {
   const auto & region = this->GetOutput()->GetBufferedRegion();
   const auto & inputRegion = this->GetInput()->GetBufferedRegion();
-  if (inputRegion != region || this->GetRemovedMask()->GetBufferedRegion() != region)
+  if (inputRegion != region || (m_GenerateRemovedMask && this->GetRemovedMask()->GetBufferedRegion() != region))
   {
     itkExceptionMacro("The input's buffered region " << inputRegion << " differs from the output's " << region
                                                      << "; the filter needs the whole image in one buffer.");
@@ -277,14 +296,15 @@ auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & team, RunLabeling & labeling)
   -> DeferredFill
 {
-  MaskPixelType *        maskBuffer = this->GetRemovedMask()->GetBufferPointer();
+  MaskPixelType *        maskBuffer = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  const SizeValueType    maskPixelBytes = m_GenerateRemovedMask ? sizeof(MaskPixelType) : 0;
   const InputPixelType * inBuffer = this->GetInput()->GetBufferPointer();
   OutputPixelType *      outBuffer = this->GetOutput()->GetBufferPointer();
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
   const SizeValueType    length = labeling.GetLineLength();
   const SizeValueType    lines = labeling.GetNumberOfLines();
-  const bool             stream = length * lines * (sizeof(OutputPixelType) + sizeof(MaskPixelType)) >=
-                      SmallIsoComponentDetail::StreamingThresholdInBytes;
+  const bool             stream =
+    length * lines * (sizeof(OutputPixelType) + maskPixelBytes) >= SmallIsoComponentDetail::StreamingThresholdInBytes;
   const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(m_IsoValue);
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
@@ -293,10 +313,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & t
       // The output would not stay in the caches: the lines are encoded from the input,
       // which holds the same values, and the output and the mask are written later,
       // with streaming stores, while the components are numbered (a serial step that
-      // leaves the other work units free).
+      // leaves the other work units free). In place and without a mask, nothing is.
       encoder.Encode(inBuffer, labeling, team);
+      if (!copy && maskBuffer == nullptr)
+      {
+        return DeferredFill();
+      }
       return DeferredFill(
-        inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * sizeof(MaskPixelType), lines);
+        inBuffer, outBuffer, length * sizeof(OutputPixelType), maskBuffer, length * maskPixelBytes, lines);
     }
   }
   // The output and the mask are filled block by block (whole lines, contiguous in
@@ -319,6 +343,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & t
       else
       {
         std::transform(in, in + count, out, [](InputPixelType v) { return static_cast<OutputPixelType>(v); });
+      }
+      if (maskBuffer == nullptr)
+      {
+        return;
       }
       if (stream)
       {
@@ -391,6 +419,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                    SideEnum::Above,
                    this->AbovePassFlips() ? &grouping : nullptr,
                    above.Removed.capacity() + grouping.GetScratchBytes());
+  m_NumberOfModifiedVoxels += m_AboveStatistics.RemovedVoxels;
   return above;
 }
 
@@ -433,12 +462,24 @@ template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam &                   team,
                                                                      const RunLabeling &          labeling,
-                                                                     const std::vector<uint8_t> & removedBelow)
+                                                                     const std::vector<uint8_t> & removedBelow,
+                                                                     const std::vector<uint8_t> & removedAbove)
 {
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
   const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
-  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity());
+  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
+  // Every voxel of a removed group is written; those of its flipped members were written
+  // by the above pass already.
+  SizeValueType writtenAgain = 0;
+  for (SizeValueType component = 0; component < removedBelow.size(); ++component)
+  {
+    if (removedBelow[component] && removedAbove[component])
+    {
+      writtenAgain += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
+    }
+  }
+  m_NumberOfModifiedVoxels += m_BelowStatistics.RemovedVoxels - writtenAgain;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -524,8 +565,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
                        joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
-  m_NumberOfModifiedVoxels += repair.WriteValues(
-    output->GetBufferPointer(), this->GetRemovedMask()->GetBufferPointer(), side == SideEnum::Above ? 1 : 2);
+  repair.WriteValues(output->GetBufferPointer(),
+                     m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr,
+                     side == SideEnum::Above ? 1 : 2);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -559,6 +601,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream 
   os << indent << "UseMaximumComponentVolume: " << (m_UseMaximumComponentVolume ? "On" : "Off") << std::endl;
   os << indent << "Side: " << m_Side << std::endl;
   os << indent << "FullyConnected: " << (m_FullyConnected ? "On" : "Off") << std::endl;
+  os << indent << "GenerateRemovedMask: " << (m_GenerateRemovedMask ? "On" : "Off") << std::endl;
   os << indent << "EffectiveMaximumComponentSize: " << m_EffectiveMaximumComponentSize << std::endl;
   os << indent << "NumberOfComponents (above, below): " << m_AboveStatistics.Components << ", "
      << m_BelowStatistics.Components << std::endl;

@@ -64,9 +64,9 @@ public:
                 bool                      removedAreAbove,
                 BelowGrouping *           joinFlipped);
 
-  /** Writes the values into \a output and \a maskValue into \a mask for every voxel of the
-   * runs; returns how many of them the mask had not marked before. */
-  SizeValueType
+  /** Writes the values into \a output and, unless \a mask is null, \a maskValue into
+   * \a mask for every voxel of the runs. */
+  void
   WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const;
 
   /** Voxels that got the fallback value. */

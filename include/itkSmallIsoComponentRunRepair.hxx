@@ -187,31 +187,38 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
 }
 
 template <typename TPixel, unsigned int VDimension>
-SizeValueType
+void
 RunRepair<TPixel, VDimension>::WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const
 {
-  std::vector<SizeValueType> newlyModified(m_NumberOfChunks, 0);
   m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
     auto value = m_Values[chunk].cbegin();
     this->ForEachRunOf(
       chunk,
-      [&](const LineRun & ahead) { Prefetch(mask + this->FirstVoxel(ahead)); },
+      [&](const LineRun & ahead) {
+        Prefetch(output + this->FirstVoxel(ahead));
+        if (mask != nullptr)
+        {
+          Prefetch(mask + this->FirstVoxel(ahead));
+        }
+      },
       [&](const LineRun & removed) {
         const SizeValueType first = this->FirstVoxel(removed);
         const SizeValueType count = m_Table.End(removed.Run, removed.Line) - m_Table.Start[removed.Run];
         // Runs are a few voxels: plain loops, no library calls.
-        SizeValueType newly = 0;
         for (SizeValueType i = 0; i < count; ++i)
         {
           output[first + i] = value[i];
-          newly += mask[first + i] == 0 ? 1 : 0;
-          mask[first + i] = maskValue;
+        }
+        if (mask != nullptr)
+        {
+          for (SizeValueType i = 0; i < count; ++i)
+          {
+            mask[first + i] = maskValue;
+          }
         }
         value += count;
-        newlyModified[chunk] += newly;
       });
   });
-  return std::accumulate(newlyModified.begin(), newlyModified.end(), SizeValueType{ 0 });
 }
 
 template <typename TPixel, unsigned int VDimension>

@@ -48,7 +48,10 @@ DeferredFill::FillBlock(SizeValueType block) const
   {
     StreamCopy(m_Output + first * m_OutputLineBytes, m_Source + first * m_OutputLineBytes, lines * m_OutputLineBytes);
   }
-  StreamZero(m_Mask + first * m_MaskLineBytes, lines * m_MaskLineBytes);
+  if (m_Mask != nullptr)
+  {
+    StreamZero(m_Mask + first * m_MaskLineBytes, lines * m_MaskLineBytes);
+  }
   StreamFence();
 }
 } // namespace SmallIsoComponentDetail

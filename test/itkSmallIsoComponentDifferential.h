@@ -31,7 +31,7 @@ constexpr unsigned int MaximumReportedFailures = 3;
 
 /** Compares the filter with the reference on \a numberOfVolumes random volumes from
  * \a firstSeed on: every output bit, every mask voxel and every statistic, for 1, 2 and 7
- * work units. */
+ * work units (7 without a mask: the statistics must not depend on it). */
 template <typename TInputPixel, typename TOutputPixel, unsigned int VDimension>
 void
 ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, bool large = false)
@@ -56,7 +56,8 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
     withUnrepairable += expected.UnrepairableVoxels > 0 ? 1 : 0;
     for (const unsigned int workUnits : { 1u, 2u, 7u })
     {
-      const auto        filter = RunFilter<InputImageType, OutputImageType>(c.Input, c.Settings, workUnits);
+      const auto filter =
+        RunFilter<InputImageType, OutputImageType>(c.Input, c.Settings, workUnits, false, workUnits != 7);
       const std::string differences =
         DifferencesFromReference(filter.GetPointer(), expected, c.Settings.MaximumComponentSize);
       if (!differences.empty())

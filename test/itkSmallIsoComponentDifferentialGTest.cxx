@@ -128,16 +128,28 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
     ASSERT_EQ(inPlace->GetOutput()->GetBufferPointer(), buffer) << "the filter did not run in place";
     EXPECT_EQ(DifferencesFromReference(inPlace.GetPointer(), expected, settings.MaximumComponentSize), "")
       << "fullyConnected=" << fullyConnected << " in place";
+    // In place without a mask: the filter writes nothing but the removed voxels.
+    const auto      noMaskCopy = MakeImage<uint8_t, 3>(extent, values);
+    const uint8_t * noMaskBuffer = noMaskCopy->GetBufferPointer();
+    const auto      inPlaceNoMask = RunFilter<ImageType>(noMaskCopy, settings, 2, true, false);
+    ASSERT_EQ(inPlaceNoMask->GetOutput()->GetBufferPointer(), noMaskBuffer) << "the filter did not run in place";
+    EXPECT_EQ(DifferencesFromReference(inPlaceNoMask.GetPointer(), expected, settings.MaximumComponentSize), "")
+      << "fullyConnected=" << fullyConnected << " in place without a mask";
 
-    // A second update of the same filter writes over the first one's output and mask.
+    // A second update of the same filter writes over the first one's output and mask; a
+    // third without the mask gives its buffer back.
     const auto again = RunFilter<ImageType>(input, settings, 2);
     Parameters other = settings;
     other.IsoValue = 100;
     again->SetIsoValue(other.IsoValue);
     again->Update();
-    EXPECT_EQ(DifferencesFromReference(
-                again.GetPointer(), Reference::Run<uint8_t>(input.GetPointer(), other), other.MaximumComponentSize),
-              "")
+    const auto expectedOther = Reference::Run<uint8_t>(input.GetPointer(), other);
+    EXPECT_EQ(DifferencesFromReference(again.GetPointer(), expectedOther, other.MaximumComponentSize), "")
       << "fullyConnected=" << fullyConnected << " second update";
+    again->GenerateRemovedMaskOff();
+    again->Update();
+    EXPECT_EQ(DifferencesFromReference(again.GetPointer(), expectedOther, other.MaximumComponentSize), "")
+      << "fullyConnected=" << fullyConnected << " third update, without the mask";
+    EXPECT_EQ(again->GetRemovedMask()->GetPixelContainer()->Capacity(), 0u) << "the mask's buffer was kept";
   }
 }

@@ -146,6 +146,7 @@ RemoveSmallComponents(bool fullyConnected, const char * engine, const char * out
     filter->SetSide(parameters.Side);
     ITK_TEST_SET_GET_VALUE(parameters.Side, filter->GetSide());
     ITK_TEST_SET_GET_BOOLEAN(filter, FullyConnected, fullyConnected);
+    ITK_TEST_SET_GET_BOOLEAN(filter, GenerateRemovedMask, false);
     filter->SetFullyConnected(fullyConnected);
     const int workUnits = std::atoi(engine);
     if (workUnits > 0)

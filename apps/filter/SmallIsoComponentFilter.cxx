@@ -485,6 +485,13 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   }
   filter->SetSide(SideOf(settings.Side));
   filter->SetFullyConnected(settings.FullyConnected);
+  // The mask is a second full-size image: made only for the mask output and for the
+  // surfaces of the removed pieces, which are cut from the input's surface with it.
+  bool needsMask = !settings.RemovedMask.empty();
+#ifdef SIC_HAVE_VTK
+  needsMask = needsMask || before != nullptr;
+#endif
+  filter->SetGenerateRemovedMask(needsMask);
   if (settings.Threads > 0)
   {
     filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));

@@ -544,6 +544,7 @@ BothRemovesThePiecesOfRemovedComponents()
     filter->SetIsoValue(50.5);
     filter->SetMaximumComponentSize(6);
     filter->SetSide(itk::SmallIsoComponentEnums::Side::Both);
+    filter->GenerateRemovedMaskOn();
     filter->Update();
     const auto removedAbove = filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Above);
     const auto removedBelow = filter->GetNumberOfRemovedComponents(itk::SmallIsoComponentEnums::Side::Below);
@@ -593,6 +594,7 @@ UnchangedCellsKeepTheirTriangles()
     filter->SetMaximumComponentSize(1 + Below(random, 10));
     filter->SetFullyConnected(Below(random, 2) == 1);
     filter->SetSide(static_cast<itk::SmallIsoComponentEnums::Side>(Below(random, 3)));
+    filter->GenerateRemovedMaskOn();
     filter->Update();
     const std::array<std::size_t, 3> extent{ { size[0], size[1], size[2] } };
     const auto                       before = Surface(*image, 49.5);

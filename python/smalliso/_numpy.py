@@ -43,7 +43,8 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         The voxel spacing in the array's axis order (default 1 per axis); only ``max_volume`` uses it.
     return_mask : bool
         Also return the mask of the changed voxels (uint8, same shape and order: 0 kept, 1 removed
-        with an above component, 2 with a below component).
+        with an above component, 2 with a below component). Without it no mask is made, which
+        saves one byte per voxel.
     return_stats : bool
         Also return the statistics: a dict with the names of ``SmallIsoComponentFilter --stats``:
         ``above`` and ``below`` (each ``components``, ``removed_components``, ``removed_voxels``,
@@ -93,7 +94,8 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     if target is None and not (array.flags.c_contiguous or array.flags.f_contiguous):
         array = np.ascontiguousarray(array)
     output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
-                                       side, bool(fully_connected), spacing, target is not None, work_units)
+                                       side, bool(fully_connected), spacing, target is not None,
+                                       bool(return_mask), work_units)
     result = (target if target is not None else output,)
     if return_mask:
         result += (mask,)

@@ -56,14 +56,15 @@ ToBox(const std::vector<uint64_t> & numpyOrder, uint64_t fill);
  * ITK's x) with itk::SmallIsoComponentImageFilter, its buffer imported without a copy. A positive
  * \a maximumVolume replaces the maximum size, with \a spacing in NumPy's axis order (empty: 1 per
  * axis). Returns (output, mask, statistics); output is None in place, where the result is in
- * \a array itself. */
+ * \a array itself, and mask is None unless \a withMask asks for it. */
 template <typename TPixel>
 py::tuple
 FilterArray(py::array_t<TPixel>         array,
             const Parameters &          parameters,
             std::optional<double>       maximumVolume,
             const std::vector<double> & spacing,
-            bool                        inPlace);
+            bool                        inPlace,
+            bool                        withMask);
 
 /** The chunked mode's voxels of one chunk: \a box (C-contiguous) is the chunk with its halo, and
  * [cropBegin, cropEnd) the chunk within it (NumPy order). Returns (output, mask, fallbacks): the

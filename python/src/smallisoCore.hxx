@@ -56,7 +56,8 @@ FilterImage(py::array_t<TPixel> &       array,
             const Parameters &          parameters,
             std::optional<double>       maximumVolume,
             const std::vector<double> & spacing,
-            bool                        inPlace)
+            bool                        inPlace,
+            bool                        withMask)
 {
   using ImageType = itk::Image<TPixel, VDimension>;
   using FilterType = itk::SmallIsoComponentImageFilter<ImageType>;
@@ -96,6 +97,7 @@ FilterImage(py::array_t<TPixel> &       array,
     filter->SetNumberOfWorkUnits(parameters.Threads);
   }
   filter->SetInPlace(inPlace);
+  filter->SetGenerateRemovedMask(withMask);
   {
     py::gil_scoped_release release;
     filter->Update();
@@ -121,7 +123,8 @@ FilterImage(py::array_t<TPixel> &       array,
   statistics["effective_max_size"] = filter->GetEffectiveMaximumComponentSize();
   statistics["peak_extra_bytes"] = filter->GetPeakExtraMemoryInBytes();
   return py::make_tuple(inPlace ? py::object(py::none()) : py::object(ArrayOf(output, shape, fortran)),
-                        ArrayOf(filter->GetRemovedMask(), shape, fortran),
+                        withMask ? py::object(ArrayOf(filter->GetRemovedMask(), shape, fortran))
+                                 : py::object(py::none()),
                         statistics);
 }
 
@@ -146,13 +149,14 @@ FilterArray(py::array_t<TPixel>         array,
             const Parameters &          parameters,
             std::optional<double>       maximumVolume,
             const std::vector<double> & spacing,
-            bool                        inPlace)
+            bool                        inPlace,
+            bool                        withMask)
 {
   if (array.ndim() == 2)
   {
-    return detail::FilterImage<TPixel, 2>(array, parameters, maximumVolume, spacing, inPlace);
+    return detail::FilterImage<TPixel, 2>(array, parameters, maximumVolume, spacing, inPlace, withMask);
   }
-  return detail::FilterImage<TPixel, 3>(array, parameters, maximumVolume, spacing, inPlace);
+  return detail::FilterImage<TPixel, 3>(array, parameters, maximumVolume, spacing, inPlace, withMask);
 }
 
 template <typename TPixel>
@@ -232,7 +236,7 @@ SummarizeChunk(py::array_t<TPixel>           chunk,
   namespace smalliso                                                                                                   \
   {                                                                                                                    \
   template py::tuple                                                                                                   \
-  FilterArray<T>(py::array_t<T>, const Parameters &, std::optional<double>, const std::vector<double> &, bool);        \
+  FilterArray<T>(py::array_t<T>, const Parameters &, std::optional<double>, const std::vector<double> &, bool, bool);  \
   template py::tuple                                                                                                   \
   FilterChunk<T>(py::array_t<T>, const std::vector<uint64_t> &, const std::vector<uint64_t> &, const Parameters &);    \
   template py::bytes                                                                                                   \

@@ -135,14 +135,17 @@ PYBIND11_MODULE(_core, module)
        bool                  fullyConnected,
        std::vector<double>   spacing,
        bool                  inPlace,
+       bool                  withMask,
        unsigned int          threads) {
       const Parameters parameters = MakeParameters(isovalue, maxSize, side, fullyConnected, threads);
       return ForPixelTypeOf(array, [&](auto pixel) {
         using PixelType = decltype(pixel);
-        return FilterArray<PixelType>(array.cast<py::array_t<PixelType>>(), parameters, maxVolume, spacing, inPlace);
+        return FilterArray<PixelType>(
+          array.cast<py::array_t<PixelType>>(), parameters, maxVolume, spacing, inPlace, withMask);
       });
     },
-    "(output or None in place, mask, statistics) of the filter on a C- or Fortran-contiguous 2-D or 3-D array.",
+    "(output or None in place, mask or None without with_mask, statistics) of the filter on a C- or "
+    "Fortran-contiguous 2-D or 3-D array.",
     py::arg("array"),
     py::arg("isovalue"),
     py::arg("max_size"),
@@ -151,6 +154,7 @@ PYBIND11_MODULE(_core, module)
     py::arg("fully_connected"),
     py::arg("spacing"),
     py::arg("in_place"),
+    py::arg("with_mask"),
     py::arg("threads"));
 
   DefineChunkFunction(

@@ -97,6 +97,7 @@ check(filter.GetIsoValue() == 0.0, "default IsoValue is 0")
 check(filter.GetMaximumComponentSize() == 20, "default MaximumComponentSize is 20")
 check(filter.GetSide() == Side.Side_Both, "default Side is Both")
 check(not filter.GetFullyConnected(), "default FullyConnected is off")
+check(not filter.GetGenerateRemovedMask(), "default GenerateRemovedMask is off")
 
 filter.SetIsoValue(50.0)
 filter.SetMaximumComponentSize(5)
@@ -106,6 +107,7 @@ filter.SetSide(Side.Side_Both)
 filter.FullyConnectedOn()
 check(filter.GetFullyConnected(), "FullyConnectedOn")
 filter.FullyConnectedOff()
+filter.GenerateRemovedMaskOn()
 check(filter.GetIsoValue() == 50.0 and filter.GetMaximumComponentSize() == 5, "parameters set")
 filter.Update()
 
@@ -171,7 +173,8 @@ check_metadata(float_output, image, "integer to float")
 # output.
 values, expected, expected_mask = scene(np.uint8)
 image = with_metadata(itk.image_from_array(values))
-result, removed = itk.small_iso_component_image_filter(image, iso_value=50.0, maximum_component_size=5)
+result, removed = itk.small_iso_component_image_filter(image, iso_value=50.0, maximum_component_size=5,
+                                                       generate_removed_mask=True)
 check(isinstance(result, itk.Image[itk.UC, 3]), "functional API keeps the pixel type")
 check(np.array_equal(itk.array_view_from_image(result), expected), "functional API output")
 check(np.array_equal(itk.array_view_from_image(removed), expected_mask), "functional API mask")
@@ -179,7 +182,8 @@ check_metadata(result, image, "functional API")
 
 # A NumPy array in gives NumPy arrays out.
 array_result, array_removed = itk.small_iso_component_image_filter(values, iso_value=50.0,
-                                                                   maximum_component_size=5)
+                                                                   maximum_component_size=5,
+                                                                   generate_removed_mask=True)
 check(isinstance(array_result, np.ndarray) and array_result.dtype == np.uint8,
       "functional API on a NumPy array returns an array of the same dtype")
 check(np.array_equal(array_result, expected) and np.array_equal(array_removed, expected_mask),
@@ -190,7 +194,8 @@ for dtype in (np.int16, np.uint16, np.float32):
     name = np.dtype(dtype).name
     values, expected, expected_mask = scene(dtype)
     image = with_metadata(itk.image_from_array(values))
-    f = itk.SmallIsoComponentImageFilter.New(image, IsoValue=50.0, MaximumComponentSize=5)
+    f = itk.SmallIsoComponentImageFilter.New(image, IsoValue=50.0, MaximumComponentSize=5,
+                                             GenerateRemovedMask=True)
     f.Update()
     check(itk.template(f.GetOutput())[1] == itk.template(image)[1], f"New() keeps the {name} pixel type")
     check(np.array_equal(itk.array_view_from_image(f.GetOutput()), expected), f"output on {name}")

@@ -76,6 +76,7 @@ def round_trip(name, values, iso_value, max_size, side="both", fully_connected=F
     f.SetMaximumComponentSize(max_size)
     f.SetSide(SIDES[side])
     f.SetFullyConnected(fully_connected)
+    f.GenerateRemovedMaskOn()
     f.Update()
     output = itk.array_from_image(f.GetOutput())
     mask = itk.array_from_image(f.GetRemovedMask())
