@@ -23,12 +23,15 @@
 
 #include "itkSmallIsoComponentImageFilter.h"
 #include "itkBinaryThresholdImageFilter.h"
+#include "itkCommand.h"
 #include "itkConnectedComponentImageFilter.h"
 #include "itkImageFileReader.h"
 #include "itkMultiThreaderBase.h"
 #include "itkRelabelComponentImageFilter.h"
 #include "itkVersion.h"
 #include "VoxelUnionFind.h"
+
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -42,7 +45,9 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <memory>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace
@@ -58,6 +63,80 @@ struct Row
   unsigned int Threads;
   double       MedianMs;
   std::size_t  PeakExtraBytes;
+  double       MedianFaults;
+};
+
+/** The filter's phases, as its progress shares end (docs/algorithm.md). */
+const std::vector<std::pair<const char *, float>> Phases{ { "encode", 0.30f },      { "assemble", 0.35f },
+                                                          { "link+number", 0.70f }, { "remove above", 0.80f },
+                                                          { "group below", 0.85f }, { "remove below", 1.0f } };
+
+/** One timed run: wall time and the page faults the process took meanwhile. */
+struct Sample
+{
+  double Ms{ 0 };
+  double Faults{ 0 };
+};
+
+/** Minor and major page faults of the process so far. */
+double
+PageFaults()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_minflt + usage.ru_majflt);
+}
+
+/** Times the phases of one update of a filter: each phase ends when the progress reaches the
+ * end of its share. */
+class PhaseClock
+{
+public:
+  explicit PhaseClock(itk::ProcessObject * filter)
+    : m_Filter(filter)
+  {
+    auto start = itk::SimpleMemberCommand<PhaseClock>::New();
+    start->SetCallbackFunction(this, &PhaseClock::Start);
+    filter->AddObserver(itk::StartEvent(), start);
+    auto progress = itk::SimpleMemberCommand<PhaseClock>::New();
+    progress->SetCallbackFunction(this, &PhaseClock::Progress);
+    filter->AddObserver(itk::ProgressEvent(), progress);
+  }
+
+  /** Milliseconds of each phase of the last update. */
+  const std::vector<double> &
+  Last() const
+  {
+    return m_Ms;
+  }
+
+private:
+  void
+  Start()
+  {
+    m_Begin = std::chrono::steady_clock::now();
+    m_Last = m_Begin;
+    m_Ms.assign(Phases.size(), std::nan(""));
+    m_Next = 0;
+  }
+
+  void
+  Progress()
+  {
+    const float progress = m_Filter->GetProgress();
+    while (m_Next < Phases.size() && progress >= Phases[m_Next].second - 1e-4f)
+    {
+      const auto now = std::chrono::steady_clock::now();
+      m_Ms[m_Next++] = std::chrono::duration<double, std::milli>(now - m_Last).count();
+      m_Last = now;
+    }
+  }
+
+  itk::ProcessObject *                  m_Filter;
+  std::chrono::steady_clock::time_point m_Begin;
+  std::chrono::steady_clock::time_point m_Last;
+  std::vector<double>                   m_Ms;
+  std::size_t                           m_Next{ 0 };
 };
 
 double
@@ -69,12 +148,16 @@ Median(std::vector<double> values)
 }
 
 template <typename F>
-double
+Sample
 TimeMs(F && work)
 {
-  const auto start = std::chrono::steady_clock::now();
+  const double faults = PageFaults();
+  const auto   start = std::chrono::steady_clock::now();
   work();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  Sample sample;
+  sample.Ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  sample.Faults = PageFaults() - faults;
+  return sample;
 }
 
 /** Runs \a work once untimed, then times a second run; \a prepare (untimed) comes before
@@ -83,7 +166,7 @@ TimeMs(F && work)
  * peer often comes back late (the next peer's second thread then starts a millisecond or
  * more after the first), which would weigh on whichever peer happened to come next. */
 template <typename P, typename F>
-double
+Sample
 TimeAfterWarmUp(P && prepare, F && work)
 {
   prepare();
@@ -236,6 +319,25 @@ Checkerboard(std::size_t n)
   return image;
 }
 
+/** Independent random voxels, each above \a isoValue with probability 1/2: every component is
+ * tiny except one percolating cluster per side, the hardest input for the labelling. uint8
+ * voxels are 0 or 255; wider types take every value of their range. */
+template <typename T>
+typename ImageType<T>::Pointer
+RandomVoxels(std::size_t n, uint64_t seed)
+{
+  SplitMix          random{ seed };
+  auto              image = NewImage<T>(n, n, n);
+  T *               out = image->GetBufferPointer();
+  const std::size_t count = n * n * n;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const uint64_t bits = random.Next();
+    *out++ = std::is_same<T, uint8_t>::value ? static_cast<T>((bits & 1) ? 255 : 0) : static_cast<T>(bits);
+  }
+  return image;
+}
+
 /** The isovalue half way between the median and the next value, for smooth noise. */
 template <typename T>
 double
@@ -292,9 +394,10 @@ public:
     std::cerr << "  " << name << " (" << region.GetSize() << ", isovalue " << isoValue << ")" << std::endl;
 
     auto copy = NewImage<T>(region.GetSize()[0], region.GetSize()[1], region.GetSize()[2]);
-    std::map<std::pair<std::string, unsigned int>, std::vector<double>> times;
-    std::map<std::pair<std::string, unsigned int>, std::size_t>         extra;
-    std::vector<unsigned int>                                           threadCounts{ 1 };
+    std::map<std::pair<std::string, unsigned int>, std::vector<Sample>>              times;
+    std::map<std::pair<std::string, unsigned int>, std::vector<std::vector<double>>> phases;
+    std::map<std::pair<std::string, unsigned int>, std::size_t>                      extra;
+    std::vector<unsigned int>                                                        threadCounts{ 1 };
     if (machineThreads > 1)
     {
       threadCounts.push_back(machineThreads);
@@ -309,6 +412,8 @@ public:
     using ConnectedType = itk::ConnectedComponentImageFilter<BinaryImageType, LabelImageType>;
     using RelabelType = itk::RelabelComponentImageFilter<LabelImageType, LabelImageType>;
     std::map<unsigned int, typename SmallIsoType::Pointer>  smallIso;
+    std::map<unsigned int, typename SmallIsoType::Pointer>  smallIsoAbove;
+    std::map<std::string, std::unique_ptr<PhaseClock>>      clocks;
     std::map<unsigned int, typename ThresholdType::Pointer> threshold;
     std::map<unsigned int, typename ConnectedType::Pointer> connected;
     std::map<unsigned int, typename RelabelType::Pointer>   relabel;
@@ -319,6 +424,14 @@ public:
       smallIso[threads]->SetIsoValue(isoValue);
       smallIso[threads]->SetMaximumComponentSize(MaximumSize);
       smallIso[threads]->SetNumberOfWorkUnits(threads);
+      smallIsoAbove[threads] = SmallIsoType::New();
+      smallIsoAbove[threads]->SetInput(input);
+      smallIsoAbove[threads]->SetIsoValue(isoValue);
+      smallIsoAbove[threads]->SetMaximumComponentSize(MaximumSize);
+      smallIsoAbove[threads]->SetSide(itk::SmallIsoComponentEnums::Side::Above);
+      smallIsoAbove[threads]->SetNumberOfWorkUnits(threads);
+      clocks["smalliso" + std::to_string(threads)] = std::make_unique<PhaseClock>(smallIso[threads]);
+      clocks["smalliso-above" + std::to_string(threads)] = std::make_unique<PhaseClock>(smallIsoAbove[threads]);
 
       threshold[threads] = ThresholdType::New();
       threshold[threads]->SetInput(input);
@@ -344,9 +457,14 @@ public:
       for (const unsigned int threads : threadCounts)
       {
         itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(threads);
-        times[{ "smalliso", threads }].push_back(
-          TimeAfterWarmUp([&] { smallIso[threads]->Modified(); }, [&] { smallIso[threads]->Update(); }));
-        extra[{ "smalliso", threads }] = smallIso[threads]->GetPeakExtraMemoryInBytes();
+        for (auto * filters : { &smallIso, &smallIsoAbove })
+        {
+          const std::string peer = filters == &smallIso ? "smalliso" : "smalliso-above";
+          SmallIsoType *    filter = (*filters)[threads];
+          times[{ peer, threads }].push_back(TimeAfterWarmUp([&] { filter->Modified(); }, [&] { filter->Update(); }));
+          extra[{ peer, threads }] = filter->GetPeakExtraMemoryInBytes();
+          phases[{ peer, threads }].push_back(clocks[peer + std::to_string(threads)]->Last());
+        }
 
         times[{ "itk-cc-relabel", threads }].push_back(
           TimeAfterWarmUp([&] { threshold[threads]->Modified(); }, [&] { relabel[threads]->Update(); }));
@@ -387,8 +505,29 @@ public:
 
     for (const auto & entry : times)
     {
+      std::vector<double> ms;
+      std::vector<double> faults;
+      for (const Sample & sample : entry.second)
+      {
+        ms.push_back(sample.Ms);
+        faults.push_back(sample.Faults);
+      }
       m_Rows.push_back(
-        { name, voxels, entry.first.first, entry.first.second, Median(entry.second), extra[entry.first] });
+        { name, voxels, entry.first.first, entry.first.second, Median(ms), extra[entry.first], Median(faults) });
+    }
+    for (const auto & entry : phases)
+    {
+      PhaseRow row{ name, voxels, entry.first.first, entry.first.second, {} };
+      for (std::size_t phase = 0; phase < Phases.size(); ++phase)
+      {
+        std::vector<double> ms;
+        for (const auto & run : entry.second)
+        {
+          ms.push_back(run[phase]);
+        }
+        row.MedianMs.push_back(Median(ms));
+      }
+      m_PhaseRows.push_back(row);
     }
   }
 
@@ -397,8 +536,8 @@ public:
   {
     os << std::left << std::setw(22) << "dataset" << std::right << std::setw(11) << "voxels"
        << "  " << std::left << std::setw(17) << "peer" << std::right << std::setw(7) << "threads" << std::setw(11)
-       << "median ms" << std::setw(10) << "Mvox/s" << std::setw(11) << "x memcpy" << std::setw(12) << "x smalliso"
-       << std::setw(12) << "extra B/vox"
+       << "median ms" << std::setw(8) << "ns/vox" << std::setw(10) << "Mvox/s" << std::setw(11) << "x memcpy"
+       << std::setw(12) << "x smalliso" << std::setw(12) << "extra B/vox" << std::setw(10) << "faults"
        << "\n";
     for (const Row & row : m_Rows)
     {
@@ -406,13 +545,33 @@ public:
       const double smallIsoMs = this->Find(row.Dataset, "smalliso", row.Peer == "smalliso" ? 1 : row.Threads);
       os << std::left << std::setw(22) << row.Dataset << std::right << std::setw(11) << row.Voxels << "  " << std::left
          << std::setw(17) << row.Peer << std::right << std::setw(7) << row.Threads << std::fixed << std::setprecision(2)
-         << std::setw(11) << row.MedianMs << std::setprecision(0) << std::setw(10) << row.Voxels / row.MedianMs / 1000.0
-         << std::setprecision(2) << std::setw(11) << row.MedianMs / memcpyMs << std::setw(12)
-         << row.MedianMs / smallIsoMs << std::setprecision(3) << std::setw(12)
-         << static_cast<double>(row.PeakExtraBytes) / row.Voxels << "\n";
+         << std::setw(11) << row.MedianMs << std::setw(8) << row.MedianMs * 1e6 / row.Voxels << std::setprecision(0)
+         << std::setw(10) << row.Voxels / row.MedianMs / 1000.0 << std::setprecision(2) << std::setw(11)
+         << row.MedianMs / memcpyMs << std::setw(12) << row.MedianMs / smallIsoMs << std::setprecision(3)
+         << std::setw(12) << static_cast<double>(row.PeakExtraBytes) / row.Voxels << std::setprecision(0)
+         << std::setw(10) << row.MedianFaults << "\n";
     }
     os << "x smalliso: ratio to smalliso at the same thread count (1 thread for smalliso rows and single-threaded "
-          "peers)\n";
+          "peers); smalliso-above: Side Above; faults: page faults of the process during the timed run\n";
+    os << "\nsmalliso's phases, median ms (ns/voxel of the whole update in the last column):\n"
+       << std::left << std::setw(22) << "dataset" << std::setw(17) << "peer" << std::right << std::setw(7) << "threads";
+    for (const auto & phase : Phases)
+    {
+      os << std::setw(13) << phase.first;
+    }
+    os << std::setw(8) << "ns/vox\n";
+    for (const PhaseRow & row : m_PhaseRows)
+    {
+      os << std::left << std::setw(22) << row.Dataset << std::setw(17) << row.Peer << std::right << std::setw(7)
+         << row.Threads << std::fixed << std::setprecision(2);
+      double total = 0;
+      for (const double ms : row.MedianMs)
+      {
+        os << std::setw(13) << ms;
+        total += ms;
+      }
+      os << std::setw(8) << total * 1e6 / row.Voxels << "\n";
+    }
   }
 
   void
@@ -427,7 +586,19 @@ public:
       os << (i ? ",\n  " : "\n  ") << "{\"dataset\": \"" << row.Dataset << "\", \"voxels\": " << row.Voxels
          << ", \"peer\": \"" << row.Peer << "\", \"threads\": " << row.Threads
          << ", \"median_ms\": " << std::setprecision(6) << row.MedianMs
-         << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << "}";
+         << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << ", \"median_page_faults\": " << row.MedianFaults << "}";
+    }
+    os << "\n],\n \"phases\": [";
+    for (std::size_t i = 0; i < m_PhaseRows.size(); ++i)
+    {
+      const PhaseRow & row = m_PhaseRows[i];
+      os << (i ? ",\n  " : "\n  ") << "{\"dataset\": \"" << row.Dataset << "\", \"peer\": \"" << row.Peer
+         << "\", \"threads\": " << row.Threads;
+      for (std::size_t phase = 0; phase < Phases.size(); ++phase)
+      {
+        os << ", \"" << Phases[phase].first << "_ms\": " << std::setprecision(6) << row.MedianMs[phase];
+      }
+      os << "}";
     }
     os << "\n]}\n";
   }
@@ -469,9 +640,19 @@ private:
     return std::nan("");
   }
 
-  Options          m_Options;
-  std::vector<Row> m_Rows;
-  bool             m_Failed{ false };
+  struct PhaseRow
+  {
+    std::string         Dataset;
+    std::size_t         Voxels;
+    std::string         Peer;
+    unsigned int        Threads;
+    std::vector<double> MedianMs;
+  };
+
+  Options               m_Options;
+  std::vector<Row>      m_Rows;
+  std::vector<PhaseRow> m_PhaseRows;
+  bool                  m_Failed{ false };
 };
 
 bool
@@ -495,10 +676,11 @@ int
 Usage(std::ostream & os, int status)
 {
   os << "Usage: SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [DATA_DIR]\n"
-        "Times smalliso (Side Both, K = 20, face connectivity) against itk-cc-relabel, voxel-union-find\n"
-        "and memcpy on every volume of DATA_DIR (default ../shared/data, if present) and on synthetic\n"
-        "volumes, and prints medians and ratios. Each timed run follows an untimed run of the same\n"
-        "peer at the same thread count. --only aneurism,lobster measures only the volumes named (real\n"
+        "Times smalliso (Side Both, and Side Above as smalliso-above; K = 20, face connectivity) against\n"
+        "itk-cc-relabel, voxel-union-find and memcpy on every volume of DATA_DIR (default ../shared/data,\n"
+        "if present) and on synthetic volumes, and prints medians, ratios, page faults and the median time\n"
+        "of each of smalliso's phases. Each timed run follows an untimed run of the same peer at the same\n"
+        "thread count. --only aneurism,lobster measures only the volumes named (real\n"
         "or synthetic, as the table names them). --small uses two small synthetic volumes only (a smoke test).\n"
         "Exit status 1 if smalliso and voxel-union-find disagree, 2 on bad arguments.\n";
   return status;
@@ -569,9 +751,8 @@ main(int argc, char * argv[])
     { "boston_teapot", 40.5 }, { "frog", 30.5 },   { "tooth", 120.5 },   { "hydrogen_atom", 20.5 },
     { "silicium", 100.5 },     { "fuel", 20.5 },   { "mr_head", 1300.5 }
   };
-  const std::vector<std::string> synthetic{
-    "noise-256-u8", "noise-512x512x463-u16", "blobs-512x512x463-u16", "checkerboard-256-u8"
-  };
+  const std::vector<std::string> synthetic{ "noise-256-u8",        "noise-512x512x463-u16", "blobs-512x512x463-u16",
+                                            "checkerboard-256-u8", "random-384-u8",         "random-384-u16" };
   for (const std::string & name : options.Only)
   {
     const bool real = std::any_of(volumes.begin(), volumes.end(), [&](const auto & v) { return v.first == name; });
@@ -653,6 +834,15 @@ main(int argc, char * argv[])
     if (options.Wants("checkerboard-256-u8"))
     {
       benchmark.Run<uint8_t>("checkerboard-256-u8", Checkerboard<uint8_t>(256), 100.5);
+    }
+    // cc3d's benchmark volume: 384^3 random binary voxels, half of them above.
+    if (options.Wants("random-384-u8"))
+    {
+      benchmark.Run<uint8_t>("random-384-u8", RandomVoxels<uint8_t>(384, 4), 127.5);
+    }
+    if (options.Wants("random-384-u16"))
+    {
+      benchmark.Run<uint16_t>("random-384-u16", RandomVoxels<uint16_t>(384, 5), 32767.5);
     }
   }
 
