@@ -28,13 +28,15 @@ flags="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefin
 # Debian's ITK was configured with GCC, and its itk_compiler_detection.h accepts GCC alone. Clang
 # speaks GCC's dialect: a copy of that header that takes GCC's branch for Clang too is included
 # first (its include guard then skips ITK's own), and Clang says it is GCC 5, the newest version
-# that header asks about (newer ones would make glibc's headers use attributes Clang lacks).
+# that header asks about (newer ones would make glibc's headers use attributes Clang lacks). The
+# copy's own includes (compilers/...) are found in ITK's include directory, also when CMake tries
+# the compiler before it knows of ITK.
 itk_include=$(ls -d /usr/include/ITK-* | sort -V | tail -n 1)
 mkdir -p "$build"
 detection=$build/itk_compiler_detection_clang.h
 sed 's/^\( *# *if\) ITK_COMPILER_IS_GNU$/\1 ITK_COMPILER_IS_GNU || ITK_COMPILER_IS_Clang/' \
   "$itk_include/itk_compiler_detection.h" >"$detection"
-cxx_flags="$flags -fgnuc-version=5.0.0 -include $detection"
+cxx_flags="$flags -fgnuc-version=5.0.0 -I$itk_include -include $detection"
 echo "fuzz: configuring and building $target in $build"
 # No build type: the flags above are the only optimisation flags. No VTK: the targets do not use it.
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE= -DBUILD_TESTING=OFF \

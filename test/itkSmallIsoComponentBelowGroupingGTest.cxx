@@ -130,31 +130,28 @@ GroupsDifference(const Grouped & grouped, const std::vector<uint8_t> & values, c
   return "";
 }
 
+/** Random sides and flips on \a grid (for ForEachRandomGrid), grouped in random ranges by
+ * one or three work units, against the flood fill. */
 template <unsigned int VDimension>
 void
-CheckRandomVolumes(uint32_t seed, unsigned int volumes, SizeValueType largestExtent)
+CheckRandomVolume(RandomSource &                      random,
+                  const Reference::Grid<VDimension> & grid,
+                  bool                                fullyConnected,
+                  const std::string &                 where)
 {
-  RandomSource random(seed);
-  for (unsigned int volume = 0; volume < volumes; ++volume)
+  const double         density = random.Pick(std::array<double, 3>{ 0.2, 0.5, 0.8 });
+  std::vector<uint8_t> values(grid.NumberOfVoxels());
+  std::vector<uint8_t> flippedVoxels(values.size());
+  for (SizeValueType v = 0; v < values.size(); ++v)
   {
-    const auto                        extent = RandomExtent<VDimension>(random, 1, largestExtent);
-    const bool                        fullyConnected = random.Chance(0.5);
-    const Reference::Grid<VDimension> grid(extent, fullyConnected);
-    const double                      density = random.Pick(std::array<double, 3>{ 0.2, 0.5, 0.8 });
-    std::vector<uint8_t>              values(grid.NumberOfVoxels());
-    std::vector<uint8_t>              flippedVoxels(values.size());
-    for (SizeValueType v = 0; v < values.size(); ++v)
-    {
-      values[v] = random.Chance(density) ? 200 : 10;
-      flippedVoxels[v] = random.Chance(0.1) ? 1 : 0;
-    }
-    const auto         rangeRuns = static_cast<SizeValueType>(random.Pick(std::array<int, 4>{ 1, 3, 16, 100000 }));
-    const unsigned int workUnits = random.Chance(0.5) ? 1 : 3;
-    Grouped            grouped;
-    Group(grouped, values, grid, fullyConnected, flippedVoxels, rangeRuns, workUnits);
-    EXPECT_EQ(GroupsDifference(grouped, values, grid), "")
-      << "seed " << seed << " volume " << volume << " full " << fullyConnected << " ranges of " << rangeRuns;
+    values[v] = random.Chance(density) ? 200 : 10;
+    flippedVoxels[v] = random.Chance(0.1) ? 1 : 0;
   }
+  const auto         rangeRuns = static_cast<SizeValueType>(random.Pick(std::array<int, 4>{ 1, 3, 16, 100000 }));
+  const unsigned int workUnits = random.Chance(0.5) ? 1 : 3;
+  Grouped            grouped;
+  Group(grouped, values, grid, fullyConnected, flippedVoxels, rangeRuns, workUnits);
+  EXPECT_EQ(GroupsDifference(grouped, values, grid), "") << where << " ranges of " << rangeRuns;
 }
 
 /** The groups of a hand-made 2-D image, given as rows (y from 0), '#' above, '.' below,
@@ -207,7 +204,7 @@ TEST(SmallIsoComponentBelowGrouping, FullConnectivityGroupsThroughCorners)
 
 TEST(SmallIsoComponentBelowGrouping, GroupsAsAFloodFillOfTheBelowAndFlippedVoxels)
 {
-  CheckRandomVolumes<2>(201, 150, 25);
-  CheckRandomVolumes<3>(202, 150, 10);
-  CheckRandomVolumes<4>(203, 60, 5);
+  ForEachRandomGrid<2>(201, 150, 25, CheckRandomVolume<2>);
+  ForEachRandomGrid<3>(202, 150, 10, CheckRandomVolume<3>);
+  ForEachRandomGrid<4>(203, 60, 5, CheckRandomVolume<4>);
 }

@@ -19,9 +19,9 @@
 // random grids of chunks: each chunk filtered with its halo (FilterBoxPart) gives the whole image's
 // voxels, and the chunks' summaries (SummarizeBox) merged along the grid give its statistics.
 
+#include "itkSmallIsoComponentInternalsTestUtilities.h"
 #include "itkSmallIsoComponentRunSummary.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
-#include "itkSmallIsoComponentTestUtilities.h"
 
 #include "gtest/gtest.h"
 
@@ -52,17 +52,8 @@ template <typename TPixel, unsigned int VDimension>
 std::string
 ChunkedDifferences(const RandomCase<TPixel, VDimension> & c, uint64_t halo, RandomSource & random)
 {
-  const auto expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
-  IndexType  size{ c.Size[0], 1, 1 };
-  if (VDimension == 2)
-  {
-    size[2] = c.Size[1];
-  }
-  else
-  {
-    size[1] = c.Size[1];
-    size[2] = c.Size[2];
-  }
+  const auto                                       expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
+  const IndexType                                  size = PlaneBox<VDimension>(c.Size);
   const SmallIsoComponentDetail::Threshold<TPixel> threshold(c.Settings.IsoValue);
   SmallIsoComponentDetail::ComponentRules          rules;
   rules.MaximumComponentSize = c.Settings.MaximumComponentSize;
@@ -167,32 +158,9 @@ ChunkedDifferences(const RandomCase<TPixel, VDimension> & c, uint64_t halo, Rand
   }
 
   std::ostringstream differences;
-  uint64_t           wrongVoxels = 0;
-  uint64_t           wrongMask = 0;
-  uint64_t           fallbacks = 0;
-  for (std::size_t v = 0; v < output.size(); ++v)
-  {
-    wrongVoxels += SameBits(output[v], expected.Output[v]) ? 0 : 1;
-    wrongMask += (mask[v] & 3) == expected.Mask[v] ? 0 : 1;
-    fallbacks += ((mask[v] & 4) != 0 ? 1 : 0) + ((mask[v] & 8) != 0 ? 1 : 0);
-  }
-  if (wrongVoxels > 0 || wrongMask > 0)
-  {
-    differences << " " << wrongVoxels << " voxels and " << wrongMask << " mask voxels differ";
-  }
-  const auto & tally = grid[0].GetTally();
-  const auto   compareSide =
-    [&](const char * name, const SmallIsoComponentDetail::SideTally & got, const Reference::SideStatistics & want) {
-      const auto histogram = got.GetHistogram();
-      if (got.GetComponents() != want.Components || got.GetRemovedComponents() != want.RemovedComponents ||
-          got.GetRemovedVoxels() != want.RemovedVoxels ||
-          Reference::HistogramType(histogram.begin(), histogram.end()) != want.Histogram)
-      {
-        differences << " " << name << " statistics differ";
-      }
-    };
-  compareSide("above", tally.Above, expected.Above);
-  compareSide("below", tally.Below, expected.Below);
+  const uint64_t     fallbacks = AppendVoxelDifferences(differences, output, mask, expected);
+  const auto &       tally = grid[0].GetTally();
+  AppendSideDifferences(differences, tally, expected);
   if (tally.ModifiedVoxels != expected.ModifiedVoxels ||
       tally.UnrepairableVoxels + fallbacks != expected.UnrepairableVoxels)
   {

@@ -131,92 +131,89 @@ RunTableDifference(const RunLabeling & labeling, const std::vector<uint8_t> & va
   return "";
 }
 
+/** Random sides on \a grid (for ForEachRandomGrid), labelled in one slab, two and eight:
+ * the runs, the components, their numbering, the candidates and the memory reported. */
 template <unsigned int VDimension>
 void
-CheckRandomVolumes(uint32_t seed, unsigned int volumes, SizeValueType largestExtent)
+CheckRandomVolume(RandomSource &                      random,
+                  const Reference::Grid<VDimension> & grid,
+                  bool                                fullyConnected,
+                  const std::string &                 where)
 {
-  RandomSource random(seed);
-  for (unsigned int volume = 0; volume < volumes; ++volume)
+  const std::vector<uint8_t> values = RandomSides(random, grid.NumberOfVoxels());
+  const auto                 candidateSize = static_cast<SizeValueType>(random.Between(0, 30));
+  std::ostringstream         trace;
+  trace << where << " extent";
+  for (const auto e : grid.Size())
   {
-    const auto                        extent = RandomExtent<VDimension>(random, 1, largestExtent);
-    const bool                        fullyConnected = random.Chance(0.5);
-    const Reference::Grid<VDimension> grid(extent, fullyConnected);
-    const std::vector<uint8_t>        values = RandomSides(random, grid.NumberOfVoxels());
-    const auto                        candidateSize = static_cast<SizeValueType>(random.Between(0, 30));
-    std::ostringstream                where;
-    where << "seed " << seed << " volume " << volume << " full " << fullyConnected << " extent";
-    for (const auto e : extent)
-    {
-      where << " " << e;
-    }
-    SCOPED_TRACE(where.str());
+    trace << " " << e;
+  }
+  SCOPED_TRACE(trace.str());
 
-    // One slab, two, and as many as the work units of 8 give (one plane each when the
-    // volume has fewer): every one numbers the components alike.
-    std::vector<SizeValueType> firstNumbering;
-    for (const unsigned int slabUnits : { 1u, 2u, 8u })
+  // One slab, two, and as many as the work units of 8 give (one plane each when the
+  // volume has fewer): every one numbers the components alike.
+  std::vector<SizeValueType> firstNumbering;
+  for (const unsigned int slabUnits : { 1u, 2u, 8u })
+  {
+    RunLabeling labeling;
+    Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, slabUnits, candidateSize, slabUnits == 8 ? 1 : 2);
+    const std::vector<SizeValueType> voxelComponent = VoxelComponents(labeling);
+    if (slabUnits == 1)
     {
-      RunLabeling labeling;
-      Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, slabUnits, candidateSize, slabUnits == 8 ? 1 : 2);
-      const std::vector<SizeValueType> voxelComponent = VoxelComponents(labeling);
-      if (slabUnits == 1)
+      ASSERT_EQ(RunTableDifference(labeling, values), "");
+      ASSERT_EQ(LabelingDifference(labeling, values, grid, voxelComponent), "");
+      firstNumbering = voxelComponent;
+
+      // Numbered in order of their first run: a new component is the next number.
+      const RunLabeling::RunTable runs = labeling.GetRunTable();
+      SizeValueType               numbered = 0;
+      const SizeValueType         lastRun = runs.LineBegin[labeling.GetNumberOfLines()];
+      for (SizeValueType run = 0; run < lastRun; ++run)
       {
-        ASSERT_EQ(RunTableDifference(labeling, values), "");
-        ASSERT_EQ(LabelingDifference(labeling, values, grid, voxelComponent), "");
-        firstNumbering = voxelComponent;
+        ASSERT_LE(runs.Component[run], numbered) << "run " << run;
+        numbered += runs.Component[run] == numbered ? 1 : 0;
+      }
 
-        // Numbered in order of their first run: a new component is the next number.
-        const RunLabeling::RunTable runs = labeling.GetRunTable();
-        SizeValueType               numbered = 0;
-        const SizeValueType         lastRun = runs.LineBegin[labeling.GetNumberOfLines()];
-        for (SizeValueType run = 0; run < lastRun; ++run)
+      // The candidates of the selected components: their runs while the component has
+      // at most candidateSize voxels up to and including the run, in run order.
+      std::vector<uint8_t> selected(labeling.GetNumberOfComponents());
+      for (auto & s : selected)
+      {
+        s = random.Chance(0.5) ? 1 : 0;
+      }
+      std::vector<RunLabeling::LineRun> expected;
+      std::vector<SizeValueType>        sizeSoFar(labeling.GetNumberOfComponents(), 0);
+      for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
+      {
+        for (SizeValueType run = runs.LineBegin[line]; run < runs.LineBegin[line + 1]; ++run)
         {
-          ASSERT_LE(runs.Component[run], numbered) << "run " << run;
-          numbered += runs.Component[run] == numbered ? 1 : 0;
-        }
-
-        // The candidates of the selected components: their runs while the component has
-        // at most candidateSize voxels up to and including the run, in run order.
-        std::vector<uint8_t> selected(labeling.GetNumberOfComponents());
-        for (auto & s : selected)
-        {
-          s = random.Chance(0.5) ? 1 : 0;
-        }
-        std::vector<RunLabeling::LineRun> expected;
-        std::vector<SizeValueType>        sizeSoFar(labeling.GetNumberOfComponents(), 0);
-        for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
-        {
-          for (SizeValueType run = runs.LineBegin[line]; run < runs.LineBegin[line + 1]; ++run)
+          const auto component = runs.Component[run];
+          sizeSoFar[component] += runs.End(run, line) - runs.Start[run];
+          if (selected[component] && sizeSoFar[component] <= candidateSize)
           {
-            const auto component = runs.Component[run];
-            sizeSoFar[component] += runs.End(run, line) - runs.Start[run];
-            if (selected[component] && sizeSoFar[component] <= candidateSize)
-            {
-              expected.push_back(
-                { static_cast<RunLabeling::RunIndexType>(run), static_cast<RunLabeling::RunIndexType>(line) });
-            }
+            expected.push_back(
+              { static_cast<RunLabeling::RunIndexType>(run), static_cast<RunLabeling::RunIndexType>(line) });
           }
         }
-        const auto collected = labeling.CollectCandidateRuns(selected);
-        ASSERT_EQ(collected.size(), expected.size());
-        for (SizeValueType i = 0; i < expected.size(); ++i)
-        {
-          ASSERT_EQ(collected[i].Run, expected[i].Run);
-          ASSERT_EQ(collected[i].Line, expected[i].Line);
-        }
-
-        // The memory it reports covers the bytes per run, line, component and candidate
-        // that its class documentation states.
-        std::vector<uint8_t> all(labeling.GetNumberOfComponents(), 1);
-        const SizeValueType  candidates = labeling.CollectCandidateRuns(all).size();
-        EXPECT_GE(labeling.GetMemoryInBytes(),
-                  8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetNumberOfComponents() +
-                    8 * candidates);
       }
-      else
+      const auto collected = labeling.CollectCandidateRuns(selected);
+      ASSERT_EQ(collected.size(), expected.size());
+      for (SizeValueType i = 0; i < expected.size(); ++i)
       {
-        ASSERT_EQ(voxelComponent, firstNumbering) << slabUnits << " work units' slabs number differently";
+        ASSERT_EQ(collected[i].Run, expected[i].Run);
+        ASSERT_EQ(collected[i].Line, expected[i].Line);
       }
+
+      // The memory it reports covers the bytes per run, line, component and candidate
+      // that its class documentation states.
+      std::vector<uint8_t> all(labeling.GetNumberOfComponents(), 1);
+      const SizeValueType  candidates = labeling.CollectCandidateRuns(all).size();
+      EXPECT_GE(labeling.GetMemoryInBytes(),
+                8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetNumberOfComponents() + 8 * candidates);
+    }
+    else
+    {
+      ASSERT_EQ(voxelComponent, firstNumbering) << slabUnits << " work units' slabs number differently";
     }
   }
 }
@@ -250,10 +247,10 @@ AboveComponentsOfTwoVoxels(const std::array<SizeValueType, VDimension> &        
 
 TEST(SmallIsoComponentRunLabeling, ComponentsOfBothSidesAsAFloodFillFindsThem)
 {
-  CheckRandomVolumes<1>(101, 60, 300);
-  CheckRandomVolumes<2>(102, 200, 30);
-  CheckRandomVolumes<3>(103, 200, 12);
-  CheckRandomVolumes<4>(104, 100, 6);
+  ForEachRandomGrid<1>(101, 60, 300, CheckRandomVolume<1>);
+  ForEachRandomGrid<2>(102, 200, 30, CheckRandomVolume<2>);
+  ForEachRandomGrid<3>(103, 200, 12, CheckRandomVolume<3>);
+  ForEachRandomGrid<4>(104, 100, 6, CheckRandomVolume<4>);
 }
 
 TEST(SmallIsoComponentRunLabeling, FullConnectivityJoinsVoxelsThatShareOnlyACorner)

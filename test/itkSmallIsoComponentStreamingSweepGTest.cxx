@@ -19,8 +19,8 @@
 // every statistic, for random volumes, slab thicknesses from one plane to the whole volume, and
 // input handed over in random pieces.
 
+#include "itkSmallIsoComponentInternalsTestUtilities.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
-#include "itkSmallIsoComponentTestUtilities.h"
 
 #include "gtest/gtest.h"
 
@@ -40,22 +40,13 @@ SweepDifferences(const RandomCase<TPixel, VDimension> & c,
 {
   const auto expected = Reference::Run<TPixel>(c.Input.GetPointer(), c.Settings);
   // The image as a box whose planes are along its last axis.
-  std::array<uint64_t, 3> size{ c.Size[0], 1, 1 };
-  if (VDimension == 2)
-  {
-    size[2] = c.Size[1];
-  }
-  else
-  {
-    size[1] = c.Size[1];
-    size[2] = c.Size[2];
-  }
-  const uint64_t       planeVoxels = size[0] * size[1];
-  std::vector<TPixel>  output(c.Values.size());
-  std::vector<uint8_t> mask(c.Values.size());
-  uint64_t             nextPlane = 0;
-  bool                 outOfOrder = false;
-  auto                 threader = MultiThreaderBase::New();
+  const std::array<uint64_t, 3> size = PlaneBox<VDimension>(c.Size);
+  const uint64_t                planeVoxels = size[0] * size[1];
+  std::vector<TPixel>           output(c.Values.size());
+  std::vector<uint8_t>          mask(c.Values.size());
+  uint64_t                      nextPlane = 0;
+  bool                          outOfOrder = false;
+  auto                          threader = MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(workUnits);
   SmallIsoComponentDetail::StreamingSweep<TPixel> sweep(
     size,
@@ -86,37 +77,14 @@ SweepDifferences(const RandomCase<TPixel, VDimension> & c,
   {
     differences << " planes out of order or missing";
   }
-  uint64_t wrongVoxels = 0;
-  uint64_t wrongMask = 0;
-  uint64_t fallbackMarks = 0;
-  for (std::size_t v = 0; v < output.size(); ++v)
-  {
-    wrongVoxels += SameBits(output[v], expected.Output[v]) ? 0 : 1;
-    wrongMask += (mask[v] & 3) == expected.Mask[v] ? 0 : 1;
-    fallbackMarks += ((mask[v] & 4) != 0 ? 1 : 0) + ((mask[v] & 8) != 0 ? 1 : 0);
-  }
-  if (wrongVoxels > 0 || wrongMask > 0)
-  {
-    differences << " " << wrongVoxels << " voxels and " << wrongMask << " mask voxels differ";
-  }
+  const uint64_t fallbackMarks = AppendVoxelDifferences(differences, output, mask, expected);
   if (fallbackMarks != expected.FallbackVoxels)
   {
     differences << " " << fallbackMarks << " voxels marked as given the fallback value, not "
                 << expected.FallbackVoxels;
   }
   const auto & tally = sweep.GetTally();
-  const auto   compareSide =
-    [&](const char * name, const SmallIsoComponentDetail::SideTally & got, const Reference::SideStatistics & want) {
-      const auto histogram = got.GetHistogram();
-      if (got.GetComponents() != want.Components || got.GetRemovedComponents() != want.RemovedComponents ||
-          got.GetRemovedVoxels() != want.RemovedVoxels ||
-          Reference::HistogramType(histogram.begin(), histogram.end()) != want.Histogram)
-      {
-        differences << " " << name << " statistics differ";
-      }
-    };
-  compareSide("above", tally.Above, expected.Above);
-  compareSide("below", tally.Below, expected.Below);
+  AppendSideDifferences(differences, tally, expected);
   if (tally.ModifiedVoxels != expected.ModifiedVoxels ||
       tally.UnrepairableVoxels + sweep.GetNumberOfFallbackVoxels() != expected.UnrepairableVoxels)
   {

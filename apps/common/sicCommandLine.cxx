@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "sicCommandLine.h"
+#include "sicStrings.h"
 #include "sicToolError.h"
 
 #include "itkMultiThreaderBase.h"
@@ -80,12 +81,6 @@ Wrap(std::ostringstream & out, const std::string & text, size_t indent)
     column += word.size();
   }
   out << '\n';
-}
-
-std::string
-Quoted(const std::string & text)
-{
-  return "'" + text + "'";
 }
 } // namespace
 
@@ -258,9 +253,8 @@ ParseCount(const std::string & flag, const std::string & text)
 std::string
 ParseChoice(const std::string & flag, const std::string & text, const std::vector<std::string> & choices)
 {
-  std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  std::string expected;
+  const std::string lower = Lowercase(text);
+  std::string       expected;
   for (const std::string & choice : choices)
   {
     if (lower == choice)

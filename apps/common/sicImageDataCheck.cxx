@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "sicImageDataCheck.h"
+#include "sicStrings.h"
 
 #include "itk_zlib.h"
 
@@ -31,12 +32,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string
-Quoted(const fs::path & path)
-{
-  return "'" + path.string() + "'";
-}
-
 /** Inflates into a scratch buffer, counting the bytes; owns the zlib stream. */
 class Inflater
 {

@@ -16,13 +16,16 @@
  *
  *=========================================================================*/
 #include "sicImageFileParts.h"
+#include "sicStrings.h"
 
 #include "itk_zlib.h"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -38,31 +41,6 @@ namespace
 constexpr std::uint64_t Saturated = std::numeric_limits<std::uint64_t>::max();
 /** No header names more data files than this (a file per slice of a very large volume). */
 constexpr std::uint64_t MaximumDataFiles = 1000000;
-
-std::string
-Lower(std::string text)
-{
-  std::transform(
-    text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
-bool
-EndsWith(const std::string & text, const std::string & suffix)
-{
-  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string
-Trim(const std::string & text)
-{
-  const size_t begin = text.find_first_not_of(" \t\r");
-  if (begin == std::string::npos)
-  {
-    return {};
-  }
-  return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
-}
 
 std::vector<std::string>
 Words(const std::string & text)
@@ -86,6 +64,25 @@ ParseInteger(const std::string & text)
     return std::nullopt;
   }
   return value;
+}
+
+/** The whole number \a text starts with, as ITK's readers take the numbers that place the data (C's strtoll:
+ * "7abc" and "7.9" are 7), or nothing when it starts with none or the number overflows. */
+std::optional<std::int64_t>
+ParseLeadingInteger(const std::string & text)
+{
+  // errno is kept as it was: ITK's messages name it.
+  const int saved = errno;
+  errno = 0;
+  char *          end = nullptr;
+  const long long value = std::strtoll(text.c_str(), &end, 10);
+  const bool      overflow = errno == ERANGE;
+  errno = saved;
+  if (end == text.c_str() || overflow)
+  {
+    return std::nullopt;
+  }
+  return static_cast<std::int64_t>(value);
 }
 
 std::uint64_t
@@ -345,7 +342,9 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   }
   const std::uint64_t headerEnd = reader.Offset();
 
-  const std::string   encoding = Lower(fields["encoding"]);
+  const std::string encoding = Lowercase(fields["encoding"]);
+  parts.EncodingName = encoding;
+  parts.BigEndian = Lowercase(fields["endian"]) == "big";
   const bool          raw = encoding == "raw";
   const bool          deflate = encoding == "gzip" || encoding == "gz";
   const std::uint64_t typeBytes =
@@ -356,8 +355,8 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   {
     parts.DataBytes = DataBytesOf(Words(fields["sizes"]), typeBytes);
   }
-  const std::int64_t lineSkip = std::max<std::int64_t>(ParseInteger(fields["lineskip"]).value_or(0), 0);
-  const std::int64_t byteSkip = ParseInteger(fields["byteskip"]).value_or(0);
+  const std::int64_t lineSkip = std::max<std::int64_t>(ParseLeadingInteger(fields["lineskip"]).value_or(0), 0);
+  const std::int64_t byteSkip = ParseLeadingInteger(fields["byteskip"]).value_or(0);
 
   std::vector<fs::path> files;
   const auto            dataFile = fields.find("datafile");
@@ -371,6 +370,7 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   }
   else if (listing)
   {
+    parts.DataFileSeries = true;
     for (const std::string & name : listed)
     {
       files.push_back(Beside(path, name));
@@ -378,6 +378,7 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   }
   else if (const auto numbered = NumberedFiles(Words(dataFile->second)))
   {
+    parts.DataFileSeries = true;
     for (const std::string & name : *numbered)
     {
       files.push_back(Beside(path, name));
@@ -395,13 +396,18 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
                        : deflate ? ImageDataEncoding::Deflate
                                  : ImageDataEncoding::Unchecked;
     segment.Offset = LineReader::SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip));
-    if (raw && byteSkip == -1)
+    // A negative byte skip other than -1 is taken as -1.
+    if (raw && byteSkip < 0)
     {
       segment.AtEnd = true;
     }
     else if (raw && byteSkip > 0)
     {
       segment.Offset += static_cast<std::uint64_t>(byteSkip);
+    }
+    else if (deflate && byteSkip < 0)
+    {
+      segment.AtEnd = true;
     }
     else if (deflate && byteSkip > 0)
     {
@@ -436,7 +442,8 @@ MetaTypeBytes(const std::string & type)
 constexpr std::size_t MetaIOFieldNameLength = 255;
 
 /** A MetaImage header: "Key = Value" lines up to ElementDataFile, the last field; LOCAL data follows it in the
- * same file, otherwise it names one file, a numbered series or LIST, whose names follow. */
+ * same file, otherwise it names one file, a numbered series or LIST, whose names follow. HeaderSize, when given,
+ * is where the data start in their file (-1: at its end). */
 void
 ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & problem)
 {
@@ -459,8 +466,14 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       parts.UnsafeForItk = true;
       return;
     }
-    fields[key] = Trim(line.substr(equals + 1));
+    const std::string value = Trim(line.substr(equals + 1));
+    fields[key] = value;
     found = key == "ElementDataFile";
+    if (key == "BinaryDataByteOrderMSB" || key == "ElementByteOrderMSB")
+    {
+      parts.BigEndian = Lowercase(value) == "true";
+    }
+    parts.TextData = parts.TextData || (key == "BinaryData" && Lowercase(value) != "true");
   }
   if (!found)
   {
@@ -482,26 +495,30 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     parts.DataBytes = DataBytesOf(std::vector<std::string>(sizes.begin(), sizes.begin() + *dimensions),
                                   SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
   }
-  const bool         compressed = Lower(fields["CompressedData"]) == "true";
-  const std::int64_t headerSize = ParseInteger(fields["HeaderSize"]).value_or(0);
+  const bool         compressed = Lowercase(fields["CompressedData"]) == "true";
+  const std::int64_t headerSize = ParseLeadingInteger(fields["HeaderSize"]).value_or(0);
 
   const std::string              value = fields["ElementDataFile"];
   const std::vector<std::string> words = Words(value);
   std::vector<fs::path>          files;
-  if (Lower(value) == "local")
+  if (Lowercase(value) == "local")
   {
     if (!ended)
     {
       problem = "its header ends without a line end after ElementDataFile = LOCAL";
       return;
     }
+    // MetaIO honours HeaderSize here too: the voxels start there, or are the file's last bytes.
     ImageDataSegment segment;
     segment.File = path;
     segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
-    segment.Offset = headerEnd;
+    segment.AtEnd = !compressed && headerSize == -1;
+    segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : headerEnd;
     parts.Data.push_back(segment);
     return;
   }
+  // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
+  parts.DataFileSeries = value.find('%') != std::string::npos || (!words.empty() && words[0] == "LIST");
   if (!words.empty() && words[0] == "LIST")
   {
     while (reader.Next(line))
@@ -572,7 +589,7 @@ FieldAt(const std::vector<unsigned char> & header, size_t offset, bool swapped)
 void
 ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
 {
-  const std::string name = Lower(path.filename().string());
+  const std::string name = Lowercase(path.filename().string());
   const bool        pair = EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz");
   fs::path          header = path;
   fs::path          data = path;
@@ -657,7 +674,7 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
   }
   ImageDataSegment segment;
   segment.File = data;
-  if (EndsWith(Lower(data.filename().string()), ".gz"))
+  if (EndsWith(Lowercase(data.filename().string()), ".gz"))
   {
     segment.Encoding = ImageDataEncoding::Deflate;
     segment.InflatedOffset = voxelOffset;
@@ -670,32 +687,51 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
 }
 } // namespace
 
+ImageFileFormat
+ImageFileFormatOf(const fs::path & path)
+{
+  const std::string name = Lowercase(path.filename().string());
+  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+  {
+    return ImageFileFormat::Nrrd;
+  }
+  if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
+  {
+    return ImageFileFormat::MetaImage;
+  }
+  if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz") ||
+      EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
+  {
+    return ImageFileFormat::Nifti;
+  }
+  if (EndsWith(name, ".png"))
+  {
+    return ImageFileFormat::Png;
+  }
+  return ImageFileFormat::Other;
+}
+
 ImageFileParts
 FindImageFileParts(const fs::path & path, std::string & problem)
 {
   problem.clear();
-  ImageFileParts    parts;
-  const std::string name = Lower(path.filename().string());
+  ImageFileParts parts;
+  parts.Format = ImageFileFormatOf(path);
   parts.Files = { path };
-  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+  switch (parts.Format)
   {
-    parts.Format = ImageFileFormat::Nrrd;
-    ReadNrrd(path, parts, problem);
-  }
-  else if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
-  {
-    parts.Format = ImageFileFormat::MetaImage;
-    ReadMetaImage(path, parts, problem);
-  }
-  else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz") ||
-           EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
-  {
-    parts.Format = ImageFileFormat::Nifti;
-    ReadNifti(path, parts, problem);
-  }
-  else if (EndsWith(name, ".png"))
-  {
-    parts.Format = ImageFileFormat::Png;
+    case ImageFileFormat::Nrrd:
+      ReadNrrd(path, parts, problem);
+      break;
+    case ImageFileFormat::MetaImage:
+      ReadMetaImage(path, parts, problem);
+      break;
+    case ImageFileFormat::Nifti:
+      ReadNifti(path, parts, problem);
+      break;
+    case ImageFileFormat::Png:
+    case ImageFileFormat::Other:
+      break;
   }
   return parts;
 }

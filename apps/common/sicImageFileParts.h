@@ -44,7 +44,9 @@ struct ImageDataSegment
   ImageDataEncoding     Encoding{ ImageDataEncoding::Raw };
   /** Bytes of File before the data: the header, NRRD's line skip and (raw) byte skip. */
   std::uint64_t Offset{ 0 };
-  /** The voxels are the last bytes of File (NRRD's byte skip -1, MetaImage's HeaderSize -1). */
+  /** The voxels are the last bytes of File (NRRD's byte skip -1, MetaImage's HeaderSize -1); for Deflate, of
+   * the inflated data (NRRD's byte skip -1 of compressed data, which streaming refuses). Any negative byte skip is
+   * taken as -1. */
   bool AtEnd{ false };
   /** Deflate only: bytes of the inflated data before the voxels (NIfTI's vox_offset in a .nii.gz, NRRD's byte
    * skip of compressed data). */
@@ -62,7 +64,7 @@ enum class ImageFileFormat
   Other
 };
 
-/** The files an image consists of and where its voxels are, as its header says. */
+/** The files an image consists of, where its voxels are and how they are stored, as its header says. */
 struct ImageFileParts
 {
   ImageFileFormat Format{ ImageFileFormat::Other };
@@ -76,9 +78,22 @@ struct ImageFileParts
   /** Whether the header has a fault that ITK's own reader does not survive, so that it must be refused before
    * ITK reads it (a MetaImage field name of 255 characters or more overflows MetaIO's buffer). */
   bool UnsafeForItk{ false };
+  /** Whether the header names its data files as a list or a numbered series (even a series of one file). */
+  bool DataFileSeries{ false };
+  /** Whether the voxels' bytes are stored most significant first: NRRD's "endian: big", MetaImage's
+   * BinaryDataByteOrderMSB or ElementByteOrderMSB True (whichever of them comes last). */
+  bool BigEndian{ false };
+  /** MetaImage's BinaryData False (on any of its lines): the voxels are written as text. */
+  bool TextData{ false };
+  /** NRRD's encoding field in lower case ("raw", "gzip", "ascii", ...); empty for the other formats. */
+  std::string EncodingName;
 };
 
-/** The parts of the image file \a path, its format known by its extension as ITK knows it: for NRRD (.nrrd,
+/** The format of the image file \a path by its extension, as ITK knows it (case does not count). */
+ImageFileFormat
+ImageFileFormatOf(const std::filesystem::path & path);
+
+/** The parts of the image file \a path, its format known by ImageFileFormatOf(): for NRRD (.nrrd,
  * .nhdr), MetaImage (.mha, .mhd) and NIfTI (.nii, .nii.gz, .hdr + .img), read from its header (data files are
  * relative to the header's directory); for every other format the file alone, with no Data. Data files are named
  * whether or not they exist. Sets \a problem, saying why (e.g. "its header is cut short"), when the header of one of

@@ -27,6 +27,14 @@
 
 namespace sic
 {
+/** Names a pixel type for a generic lambda: `[](auto tag) { using PixelType = typename
+ * decltype(tag)::PixelType; ... }`. */
+template <typename TPixel>
+struct PixelTypeTag
+{
+  using PixelType = TPixel;
+};
+
 /** Names an image type for a generic lambda: `[](auto tag) { using ImageType = typename
  * decltype(tag)::ImageType; ... }`. */
 template <typename TPixel, unsigned int VDimension>
@@ -37,23 +45,35 @@ struct ImageTypeTag
   static constexpr unsigned int Dimension = VDimension;
 };
 
-namespace detail
-{
-template <typename TPixel, typename TFunction>
+/** Calls \a function with the PixelTypeTag of \a componentType, one of the types SupportedPixelTypes() names;
+ * for any other type, throws what \a unsupported() returns. Every instantiation of \a function must return the
+ * same type. */
+template <typename TFunction, typename TUnsupported>
 decltype(auto)
-DispatchDimension(unsigned int dimension, TFunction && function)
+DispatchPixelType(itk::IOComponentEnum componentType, TFunction && function, TUnsupported && unsupported)
 {
-  if (dimension == 2)
+  switch (componentType)
   {
-    return function(ImageTypeTag<TPixel, 2>{});
+    case itk::IOComponentEnum::UCHAR:
+      return function(PixelTypeTag<std::uint8_t>{});
+    case itk::IOComponentEnum::CHAR:
+      return function(PixelTypeTag<std::int8_t>{});
+    case itk::IOComponentEnum::USHORT:
+      return function(PixelTypeTag<std::uint16_t>{});
+    case itk::IOComponentEnum::SHORT:
+      return function(PixelTypeTag<std::int16_t>{});
+    case itk::IOComponentEnum::UINT:
+      return function(PixelTypeTag<std::uint32_t>{});
+    case itk::IOComponentEnum::INT:
+      return function(PixelTypeTag<std::int32_t>{});
+    case itk::IOComponentEnum::FLOAT:
+      return function(PixelTypeTag<float>{});
+    case itk::IOComponentEnum::DOUBLE:
+      return function(PixelTypeTag<double>{});
+    default:
+      throw unsupported();
   }
-  if (dimension == 3)
-  {
-    return function(ImageTypeTag<TPixel, 3>{});
-  }
-  throw std::logic_error("DispatchScalarImage: unsupported dimension " + std::to_string(dimension));
 }
-} // namespace detail
 
 /** Calls \a function with the ImageTypeTag of the image \a info describes: its own pixel
  * type and dimension, so the image is processed without conversion. \a info must come
@@ -63,28 +83,23 @@ template <typename TFunction>
 decltype(auto)
 DispatchScalarImage(const ScalarImageInfo & info, TFunction && function)
 {
-  using detail::DispatchDimension;
-  switch (info.ComponentType)
-  {
-    case itk::IOComponentEnum::UCHAR:
-      return DispatchDimension<std::uint8_t>(info.Dimension, function);
-    case itk::IOComponentEnum::CHAR:
-      return DispatchDimension<std::int8_t>(info.Dimension, function);
-    case itk::IOComponentEnum::USHORT:
-      return DispatchDimension<std::uint16_t>(info.Dimension, function);
-    case itk::IOComponentEnum::SHORT:
-      return DispatchDimension<std::int16_t>(info.Dimension, function);
-    case itk::IOComponentEnum::UINT:
-      return DispatchDimension<std::uint32_t>(info.Dimension, function);
-    case itk::IOComponentEnum::INT:
-      return DispatchDimension<std::int32_t>(info.Dimension, function);
-    case itk::IOComponentEnum::FLOAT:
-      return DispatchDimension<float>(info.Dimension, function);
-    case itk::IOComponentEnum::DOUBLE:
-      return DispatchDimension<double>(info.Dimension, function);
-    default:
-      throw std::logic_error("DispatchScalarImage: unsupported pixel type " + PixelTypeName(info.ComponentType));
-  }
+  return DispatchPixelType(
+    info.ComponentType,
+    [&](auto pixel) -> decltype(auto) {
+      using PixelType = typename decltype(pixel)::PixelType;
+      if (info.Dimension == 2)
+      {
+        return function(ImageTypeTag<PixelType, 2>{});
+      }
+      if (info.Dimension == 3)
+      {
+        return function(ImageTypeTag<PixelType, 3>{});
+      }
+      throw std::logic_error("DispatchScalarImage: unsupported dimension " + std::to_string(info.Dimension));
+    },
+    [&] {
+      return std::logic_error("DispatchScalarImage: unsupported pixel type " + PixelTypeName(info.ComponentType));
+    });
 }
 } // namespace sic
 

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "sicStagedOutputs.h"
 #include "sicPlatform.h"
+#include "sicStrings.h"
 #include "sicToolError.h"
 
 #include <fstream>
@@ -46,12 +47,6 @@ SameFile(const fs::path & a, const fs::path & b)
   std::error_code errorA;
   std::error_code errorB;
   return fs::weakly_canonical(fs::absolute(a), errorA) == fs::weakly_canonical(fs::absolute(b), errorB);
-}
-
-std::string
-Quoted(const fs::path & path)
-{
-  return "'" + path.string() + "'";
 }
 
 /** \a text with every \a from replaced by \a to. */

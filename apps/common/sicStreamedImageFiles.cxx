@@ -16,6 +16,8 @@
  *
  *=========================================================================*/
 #include "sicStreamedImageFiles.h"
+#include "sicImageFileParts.h"
+#include "sicStrings.h"
 #include "sicToolError.h"
 
 #include "itkImageIOFactory.h"
@@ -26,7 +28,6 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace sic
@@ -34,59 +35,6 @@ namespace sic
 namespace
 {
 constexpr std::size_t CompressedChunk = std::size_t{ 256 } << 10;
-
-std::string
-Lowercase(std::string text)
-{
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
-bool
-EndsWith(const std::string & text, const std::string & suffix)
-{
-  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string
-Trim(const std::string & text)
-{
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos)
-  {
-    return "";
-  }
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
-
-std::string
-Quoted(const std::string & path)
-{
-  return "'" + path + "'";
-}
-
-enum class Format
-{
-  MetaImage,
-  Nrrd,
-  Other
-};
-
-Format
-FormatOfName(const std::string & path)
-{
-  const std::string name = Lowercase(path);
-  if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
-  {
-    return Format::MetaImage;
-  }
-  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
-  {
-    return Format::Nrrd;
-  }
-  return Format::Other;
-}
 
 bool
 IsBigEndianHost()
@@ -174,173 +122,50 @@ struct Layout
   std::string DataPath;
   uint64_t    Offset{ 0 };
   bool        AtEnd{ false }; // the data are the file's last bytes
-  uint64_t    LineSkip{ 0 };
   bool        Compressed{ false };
   bool        BigEndian{ false };
 };
 
-/** Reads "Key = Value" lines up to ElementDataFile (the last header line). */
+/** Where the voxels of the MetaImage or NRRD file \a path are, as its header says (FindImageFileParts, which
+ * has skipped NRRD's lines and raw bytes to skip); refuses what does not stream. */
 Layout
-MetaImageLayout(const std::string & path, const std::string & what)
+StreamedLayout(const std::string & path, const std::string & what)
 {
-  std::ifstream in(path, std::ios::binary);
-  Layout        layout;
-  std::string   line;
-  std::string   dataFile;
-  int64_t       headerSize = 0;
-  bool          haveHeaderSize = false;
-  while (std::getline(in, line))
+  std::string          problem;
+  const ImageFileParts parts = FindImageFileParts(path, problem);
+  if (!problem.empty())
   {
-    const auto equals = line.find('=');
-    if (equals == std::string::npos)
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": " + problem);
+  }
+  const auto refuse = [&](const std::string & reason) {
+    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": " + reason + "; " + StreamableFormats());
+  };
+  if (parts.TextData)
+  {
+    refuse("its voxels are stored as text");
+  }
+  for (const ImageDataSegment & segment : parts.Data)
+  {
+    if (segment.Encoding == ImageDataEncoding::Unchecked)
     {
-      continue;
+      refuse("its encoding is " + parts.EncodingName);
     }
-    const std::string key = Trim(line.substr(0, equals));
-    const std::string value = Trim(line.substr(equals + 1));
-    if (key == "CompressedData")
+    if (segment.Encoding == ImageDataEncoding::Deflate && (segment.AtEnd || segment.InflatedOffset > 0))
     {
-      layout.Compressed = Lowercase(value) == "true";
-    }
-    else if (key == "BinaryDataByteOrderMSB" || key == "ElementByteOrderMSB")
-    {
-      layout.BigEndian = Lowercase(value) == "true";
-    }
-    else if (key == "BinaryData" && Lowercase(value) != "true")
-    {
-      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are stored as text; " +
-                      StreamableFormats());
-    }
-    else if (key == "HeaderSize")
-    {
-      headerSize = std::stoll(value);
-      haveHeaderSize = true;
-    }
-    else if (key == "ElementDataFile")
-    {
-      dataFile = value;
-      break;
+      refuse("it skips bytes of gzip-compressed data");
     }
   }
-  if (dataFile.empty())
+  if (parts.DataFileSeries || parts.Data.size() != 1)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its header has no ElementDataFile line");
+    refuse("its voxels are spread over several files");
   }
-  if (dataFile == "LOCAL")
-  {
-    layout.DataPath = path;
-    layout.Offset = static_cast<uint64_t>(in.tellg());
-  }
-  else
-  {
-    if (dataFile == "LIST" || dataFile.find('%') != std::string::npos || dataFile.find(' ') != std::string::npos)
-    {
-      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are spread over several files; " +
-                      StreamableFormats());
-    }
-    const std::filesystem::path data(dataFile);
-    layout.DataPath = data.is_absolute() ? data.string() : (std::filesystem::path(path).parent_path() / data).string();
-    layout.Offset = 0;
-  }
-  if (haveHeaderSize)
-  {
-    layout.AtEnd = headerSize < 0;
-    if (headerSize > 0)
-    {
-      layout.Offset = static_cast<uint64_t>(headerSize);
-    }
-  }
-  return layout;
-}
-
-/** Reads the NRRD header's fields (up to the blank line before attached data). */
-Layout
-NrrdLayout(const std::string & path, const std::string & what)
-{
-  std::ifstream in(path, std::ios::binary);
-  Layout        layout;
-  std::string   line;
-  std::getline(in, line);
-  if (line.compare(0, 4, "NRRD") != 0)
-  {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": it does not start with NRRD's magic line");
-  }
-  std::string dataFile;
-  std::string encoding = "raw";
-  int64_t     byteSkip = 0;
-  while (std::getline(in, line))
-  {
-    if (Trim(line).empty())
-    {
-      break;
-    }
-    if (line[0] == '#')
-    {
-      continue;
-    }
-    const auto colon = line.find(": ");
-    if (colon == std::string::npos)
-    {
-      continue;
-    }
-    const std::string field = Lowercase(Trim(line.substr(0, colon)));
-    const std::string value = Trim(line.substr(colon + 2));
-    if (field == "data file" || field == "datafile")
-    {
-      dataFile = value;
-    }
-    else if (field == "encoding")
-    {
-      encoding = Lowercase(value);
-    }
-    else if (field == "endian")
-    {
-      layout.BigEndian = Lowercase(value) == "big";
-    }
-    else if (field == "byte skip" || field == "byteskip")
-    {
-      byteSkip = std::stoll(value);
-    }
-    else if (field == "line skip" || field == "lineskip")
-    {
-      layout.LineSkip = static_cast<uint64_t>(std::stoll(value));
-    }
-  }
-  if (encoding == "gzip" || encoding == "gz")
-  {
-    layout.Compressed = true;
-  }
-  else if (encoding != "raw")
-  {
-    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its encoding is " + encoding + "; " +
-                    StreamableFormats());
-  }
-  if (layout.Compressed && byteSkip != 0)
-  {
-    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": it skips bytes of gzip-compressed data; " +
-                    StreamableFormats());
-  }
-  if (dataFile.empty())
-  {
-    layout.DataPath = path;
-    layout.Offset = static_cast<uint64_t>(in.tellg());
-  }
-  else
-  {
-    if (dataFile.find(' ') != std::string::npos || dataFile.find('%') != std::string::npos || dataFile == "LIST")
-    {
-      throw ToolError("cannot stream " + what + " " + Quoted(path) + ": its voxels are spread over several files; " +
-                      StreamableFormats());
-    }
-    const std::filesystem::path data(dataFile);
-    layout.DataPath = data.is_absolute() ? data.string() : (std::filesystem::path(path).parent_path() / data).string();
-    layout.Offset = 0;
-  }
-  layout.AtEnd = byteSkip < 0;
-  if (byteSkip > 0)
-  {
-    layout.Offset += static_cast<uint64_t>(byteSkip);
-  }
+  const ImageDataSegment & segment = parts.Data.front();
+  Layout                   layout;
+  layout.DataPath = segment.File.string();
+  layout.Offset = segment.Offset;
+  layout.AtEnd = segment.AtEnd;
+  layout.Compressed = segment.Encoding == ImageDataEncoding::Deflate;
+  layout.BigEndian = parts.BigEndian;
   return layout;
 }
 } // namespace
@@ -381,7 +206,8 @@ VolumeGeometry::PixelBytes() const
 bool
 IsStreamableImageFile(const std::string & path)
 {
-  return FormatOfName(path) != Format::Other;
+  const ImageFileFormat format = ImageFileFormatOf(path);
+  return format == ImageFileFormat::MetaImage || format == ImageFileFormat::Nrrd;
 }
 
 std::string
@@ -420,8 +246,7 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   , m_What(what)
   , m_Data(std::make_unique<Data>())
 {
-  const Format format = FormatOfName(path);
-  if (format == Format::Other)
+  if (!IsStreamableImageFile(path))
   {
     throw ToolError("cannot stream " + what + " " + Quoted(path) + ": " + StreamableFormats());
   }
@@ -457,7 +282,7 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   }
 
   Data & data = *m_Data;
-  data.Where = format == Format::MetaImage ? MetaImageLayout(path, what) : NrrdLayout(path, what);
+  data.Where = StreamedLayout(path, what);
   m_Files.push_back(path);
   if (data.Where.DataPath != path)
   {
@@ -482,22 +307,7 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot open its data file " +
                     Quoted(data.Where.DataPath) + " (" + std::strerror(errno) + ")");
   }
-  // Lines to skip, then the offset.
   uint64_t offset = data.Where.Offset;
-  if (data.Where.LineSkip > 0)
-  {
-    std::fseek(data.File, static_cast<long>(offset), SEEK_SET);
-    for (uint64_t lines = 0; lines < data.Where.LineSkip;)
-    {
-      const int c = std::fgetc(data.File);
-      if (c == EOF)
-      {
-        throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file ends within the lines to skip");
-      }
-      lines += c == '\n' ? 1 : 0;
-    }
-    offset = static_cast<uint64_t>(std::ftell(data.File));
-  }
   if (!data.Where.Compressed)
   {
     if (data.Where.AtEnd)
@@ -639,7 +449,7 @@ PlaneReader::Finish()
 
 struct PlaneWriter::Output
 {
-  Format               Kind{ Format::Other };
+  ImageFileFormat      Kind{ ImageFileFormat::Other };
   bool                 Detached{ false };
   std::string          DataPath;
   std::string          DataName;
@@ -782,8 +592,8 @@ PlaneWriter::PlaneWriter(const std::string &    path,
 {
   Output &          out = *m_Output;
   const std::string name = Lowercase(finalPath);
-  out.Kind = FormatOfName(finalPath);
-  if (out.Kind == Format::Other || MetaElementType(geometry.ComponentType) == nullptr)
+  out.Kind = ImageFileFormatOf(finalPath);
+  if (!IsStreamableImageFile(finalPath) || MetaElementType(geometry.ComponentType) == nullptr)
   {
     throw ToolError("cannot stream " + what + " " + Quoted(finalPath) + ": " + StreamableFormats());
   }
@@ -797,14 +607,14 @@ PlaneWriter::PlaneWriter(const std::string &    path,
     const std::filesystem::path staged(path);
     const std::string           stem = std::filesystem::path(finalPath).stem().string();
     out.DataName =
-      stem + (out.Kind == Format::MetaImage ? (compress ? ".zraw" : ".raw") : (compress ? ".raw.gz" : ".raw"));
+      stem + (out.Kind == ImageFileFormat::MetaImage ? (compress ? ".zraw" : ".raw") : (compress ? ".raw.gz" : ".raw"));
     out.DataPath = (staged.parent_path() / out.DataName).string();
     out.File = std::fopen(out.DataPath.c_str(), "wb");
     if (out.File == nullptr)
     {
       fail("its data file");
     }
-    if (out.Kind == Format::Nrrd)
+    if (out.Kind == ImageFileFormat::Nrrd)
     {
       // A NRRD header names no size: write it now.
       out.Header = std::fopen(path.c_str(), "wb");
@@ -827,9 +637,10 @@ PlaneWriter::PlaneWriter(const std::string &    path,
       fail("the file");
     }
     out.Header = out.File;
-    const std::string header = out.Kind == Format::MetaImage ? MetaImageHeader(geometry, compress, "LOCAL", true)
-                                                             : NrrdHeader(geometry, compress, "");
-    if (out.Kind == Format::MetaImage && compress)
+    const std::string header = out.Kind == ImageFileFormat::MetaImage
+                                 ? MetaImageHeader(geometry, compress, "LOCAL", true)
+                                 : NrrdHeader(geometry, compress, "");
+    if (out.Kind == ImageFileFormat::MetaImage && compress)
     {
       const std::string field = "CompressedDataSize = ";
       out.SizeFieldAt = static_cast<long>(header.find(field) + field.size());
@@ -842,7 +653,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
   if (compress)
   {
     // Level 1: for volumes this large, the fastest compression is most of the gain.
-    const int windowBits = out.Kind == Format::Nrrd ? 15 + 16 : 15;
+    const int windowBits = out.Kind == ImageFileFormat::Nrrd ? 15 + 16 : 15;
     if (deflateInit2(&out.Stream, 1, Z_DEFLATED, windowBits, 8, Z_DEFAULT_STRATEGY) != Z_OK)
     {
       throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": the compressor could not start");
@@ -962,7 +773,7 @@ PlaneWriter::Finish()
   {
     out.Header = nullptr;
   }
-  if (out.Detached && out.Kind == Format::MetaImage)
+  if (out.Detached && out.Kind == ImageFileFormat::MetaImage)
   {
     out.Header = std::fopen(m_Path.c_str(), "wb");
     if (out.Header == nullptr)

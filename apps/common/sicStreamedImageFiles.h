@@ -61,8 +61,10 @@ StreamableFormats();
 
 /** Reads an image's voxels plane by plane, without holding more than the planes asked for:
  * MetaImage and NRRD files whose data are raw (either byte order), zlib-compressed (MetaImage) or
- * gzip-compressed (NRRD). Every problem (another format, a data file that is too short, corrupt
- * compressed data or a failed checksum, data left over) is a ToolError with one line. */
+ * gzip-compressed (NRRD). The geometry comes from ITK's reader; where the voxels are and how
+ * they are stored from FindImageFileParts(), the header reader of the tools' data checks. Every
+ * problem (another format, a data file that is too short, corrupt compressed data or a failed
+ * checksum, data left over) is a ToolError with one line. */
 class PlaneReader
 {
 public:

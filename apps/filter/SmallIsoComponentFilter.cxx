@@ -74,15 +74,19 @@ DescribeTool()
     "Cubes, Slicer's Grayscale Model Maker) has no tiny pieces. Any scalar 2-D or 3-D image ITK reads (NRRD, "
     "NIfTI, MetaImage, PNG, ...) is processed in its own pixel type; spacing, origin and direction are kept.";
 
-  const auto image = [](const char * name, const char * label, const char * channel, const char * type) {
-    SlicerParameter parameter;
-    parameter.Tag = "image";
-    parameter.Name = name;
-    parameter.Label = label;
-    parameter.Group = "Input/Output";
-    parameter.Channel = channel;
-    parameter.ImageType = type;
-    return parameter;
+  const auto parameter = [](const char * tag, const char * name, const char * label, const char * group) {
+    SlicerParameter slicer;
+    slicer.Tag = tag;
+    slicer.Name = name;
+    slicer.Label = label;
+    slicer.Group = group;
+    return slicer;
+  };
+  const auto image = [&](const char * name, const char * label, const char * channel, const char * type) {
+    SlicerParameter slicer = parameter("image", name, label, "Input/Output");
+    slicer.Channel = channel;
+    slicer.ImageType = type;
+    return slicer;
   };
   tool.Positionals = {
     { "INPUT",
@@ -96,14 +100,6 @@ DescribeTool()
       image("outputVolume", "Output volume", "output", "scalar") },
   };
 
-  const auto parameter = [](const char * tag, const char * name, const char * label, const char * group) {
-    SlicerParameter slicer;
-    slicer.Tag = tag;
-    slicer.Name = name;
-    slicer.Label = label;
-    slicer.Group = group;
-    return slicer;
-  };
   Option isovalue{ "--isovalue",
                    "S",
                    "The isovalue, in the image's intensity units: voxels with a value >= S are above it, all "
@@ -163,12 +159,8 @@ DescribeTool()
   stats.Slicer.Channel = "output";
   stats.Slicer.FileExtensions = ".json";
 #ifdef SIC_HAVE_VTK
-  const auto geometry = [](const char * name, const char * label) {
-    SlicerParameter slicer;
-    slicer.Tag = "geometry";
-    slicer.Name = name;
-    slicer.Label = label;
-    slicer.Group = "Surfaces";
+  const auto geometry = [&](const char * name, const char * label) {
+    SlicerParameter slicer = parameter("geometry", name, label, "Surfaces");
     slicer.Channel = "output";
     slicer.FileExtensions = ".vtp,.stl,.ply,.obj";
     return slicer;

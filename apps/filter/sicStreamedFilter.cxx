@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "sicStreamedFilter.h"
+#include "sicScalarImageDispatch.h"
 #include "sicToolError.h"
 
 #include "itkMultiThreaderBase.h"
@@ -247,27 +248,15 @@ RunStreamedFilter(PlaneReader &                       input,
                   const std::function<void(double)> & progress,
                   FilterReport &                      report)
 {
-  switch (input.GetGeometry().ComponentType)
-  {
-    case itk::IOComponentEnum::UCHAR:
-      return RunStreamed<uint8_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::CHAR:
-      return RunStreamed<int8_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::USHORT:
-      return RunStreamed<uint16_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::SHORT:
-      return RunStreamed<int16_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::UINT:
-      return RunStreamed<uint32_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::INT:
-      return RunStreamed<int32_t>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::FLOAT:
-      return RunStreamed<float>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    case itk::IOComponentEnum::DOUBLE:
-      return RunStreamed<double>(input, settings, outputs, maximumSize, slabPlanes, progress, report);
-    default:
-      throw ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +
-                      " is not supported; expected one of " + SupportedPixelTypes());
-  }
+  DispatchPixelType(
+    input.GetGeometry().ComponentType,
+    [&](auto pixel) {
+      RunStreamed<typename decltype(pixel)::PixelType>(
+        input, settings, outputs, maximumSize, slabPlanes, progress, report);
+    },
+    [&] {
+      return ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +
+                       " is not supported; expected one of " + SupportedPixelTypes());
+    });
 }
 } // namespace sic

@@ -19,6 +19,7 @@
 
 #include "sicPlatform.h"
 #include "sicStagedOutputs.h"
+#include "sicStrings.h"
 #include "sicToolError.h"
 #include "sicVtkErrors.h"
 
@@ -77,11 +78,7 @@ HasNaN(const T * values, std::size_t count)
 std::string
 LowerExtension(const std::string & path)
 {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  return extension;
+  return Lowercase(std::filesystem::path(path).extension().string());
 }
 
 /** The pieces of a surface as a union-find over its points: the points of each triangle are

@@ -13,7 +13,7 @@ import os
 import sys
 import unittest
 
-from sic_tool_test import USAGE_ERROR, ToolTestCase, run
+from sic_tool_test import USAGE_ERROR, ToolTestCase, noise, run
 
 FILTER = os.environ.get("SIC_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
@@ -88,6 +88,42 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         streamed = self.filtered(self.path("flat.mha"), self.path("streamed.nhdr"), "--memory-limit", "256M")
         self.assertSameStatistics(streamed, reference)
         self.assertSameImages(self.path("streamed.nhdr"), self.path("memory.mha"))
+
+    def test_voxels_placed_by_the_header_stream_as_itk_reads_them(self):
+        """Headers that put their voxels elsewhere than right after them (MetaImage's HeaderSize,
+        NRRD's line skip and byte skip): the streamed run reads the voxels the in-memory run reads,
+        not the bytes before or after them."""
+        sizes = (9, 8, 7)
+        count = sizes[0] * sizes[1] * sizes[2]
+        voxels = bytes(200 if value < 90 else 10 for value in noise(count, seed=5))
+        garbage = noise(64, seed=6)
+        meta = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+                "CompressedData = False\nDimSize = %d %d %d\nElementType = MET_UCHAR\n" % sizes)
+        nrrd = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\nendian: little\nencoding: raw\n" % sizes
+        local = (meta + "HeaderSize = 1000\nElementDataFile = LOCAL\n").encode()
+        files = {
+            "at.mha": local + garbage + bytes(1000 - len(local) - len(garbage)) + voxels + garbage,
+            "end.mha": (meta + "HeaderSize = -1\nElementDataFile = LOCAL\n").encode() + garbage + voxels,
+            "lower.mha": (meta + "ElementDataFile = local\n").encode() + voxels,
+            "skip.mhd": (meta + "HeaderSize = 7\nElementDataFile = skip.raw\n").encode(),
+            "skip.raw": garbage[:7] + voxels + garbage,
+            "lines.nhdr": (nrrd + "line skip: 2\nbyte skip: 3\ndata file: lines.raw\n").encode(),
+            "lines.raw": b"first\nsecond\n" + garbage[:3] + voxels + garbage,
+            "last.nhdr": (nrrd + "byte skip: -1\ndata file: last.raw\n").encode(),
+            "last.raw": garbage + voxels,
+        }
+        for name, content in files.items():
+            with open(self.path(name), "wb") as file:
+                file.write(content)
+        for name in ("at.mha", "end.mha", "lower.mha", "skip.mhd", "lines.nhdr", "last.nhdr"):
+            with self.subTest(name=name):
+                stem = os.path.splitext(name)[0]
+                reference = self.filtered(self.path(name), self.path(stem + "-memory.nrrd"))
+                streamed = self.filtered(self.path(name), self.path(stem + "-streamed.nrrd"), "--memory-limit", "512M")
+                self.assertSameStatistics(streamed, reference)
+                self.assertGreater(reference["statistics"]["modified_voxels"], 0)
+                self.assertSameImages(self.path(stem + "-streamed.nrrd"), self.path(stem + "-memory.nrrd"))
+                self.assertSameImages(self.path(stem + "-streamed-mask.nrrd"), self.path(stem + "-memory-mask.nrrd"))
 
     def test_errors_are_one_line_and_write_nothing(self):
         source = self.phantom("16")
