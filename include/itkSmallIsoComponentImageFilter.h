@@ -18,14 +18,12 @@
 #ifndef itkSmallIsoComponentImageFilter_h
 #define itkSmallIsoComponentImageFilter_h
 
-#include "itkInPlaceImageFilter.h"
 #include "itkProgressTransformer.h"
 #include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentDeferredFill.h"
-#include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentImageFilterBase.h"
 #include "itkSmallIsoComponentPeakMemory.h"
 #include "itkSmallIsoComponentRunLabeling.h"
-#include <map>
 #include <type_traits>
 #include <vector>
 
@@ -104,8 +102,14 @@ namespace itk
  * The filter can run in place (InPlaceOn(), when input and output types are the same),
  * which saves the output buffer and the copy; it is off by default.
  *
+ * The parameters, the mask output, the checks of the parameters and the component counts of
+ * each side are SmallIsoComponentImageFilterBase's, which SmallIsoComponentStreamingImageFilter
+ * shares; this class adds the in-memory algorithm and the statistics it keeps.
+ *
  * docs/algorithm.md describes how it works and where each step is implemented.
  *
+ * \sa SmallIsoComponentImageFilterBase
+ * \sa SmallIsoComponentStreamingImageFilter
  * \sa ConnectedComponentImageFilter
  * \sa RelabelComponentImageFilter
  * \sa BinaryThresholdImageFilter
@@ -114,26 +118,27 @@ namespace itk
  * \ingroup SmallIsoComponent
  */
 template <typename TInputImage, typename TOutputImage = TInputImage>
-class ITK_TEMPLATE_EXPORT SmallIsoComponentImageFilter : public InPlaceImageFilter<TInputImage, TOutputImage>
+class ITK_TEMPLATE_EXPORT SmallIsoComponentImageFilter
+  : public SmallIsoComponentImageFilterBase<TInputImage, TOutputImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(SmallIsoComponentImageFilter);
 
   using Self = SmallIsoComponentImageFilter;
-  using Superclass = InPlaceImageFilter<TInputImage, TOutputImage>;
+  using Superclass = SmallIsoComponentImageFilterBase<TInputImage, TOutputImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
-  using InputImageType = TInputImage;
-  using OutputImageType = TOutputImage;
-  using InputPixelType = typename InputImageType::PixelType;
-  using OutputPixelType = typename OutputImageType::PixelType;
-  static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
-  using MaskPixelType = uint8_t;
-  using MaskImageType = Image<MaskPixelType, ImageDimension>;
-  using SideEnum = SmallIsoComponentEnums::Side;
+  using InputImageType = typename Superclass::InputImageType;
+  using OutputImageType = typename Superclass::OutputImageType;
+  using InputPixelType = typename Superclass::InputPixelType;
+  using OutputPixelType = typename Superclass::OutputPixelType;
+  static constexpr unsigned int ImageDimension = Superclass::ImageDimension;
+  using MaskPixelType = typename Superclass::MaskPixelType;
+  using MaskImageType = typename Superclass::MaskImageType;
+  using SideEnum = typename Superclass::SideEnum;
   /** Component size (voxels) -> number of components of that size. */
-  using ComponentSizeHistogramType = std::map<SizeValueType, SizeValueType>;
+  using ComponentSizeHistogramType = typename Superclass::ComponentSizeHistogramType;
 
   static_assert(std::is_arithmetic<InputPixelType>::value,
                 "SmallIsoComponentImageFilter needs a scalar input pixel type (an integer or floating-point "
@@ -147,62 +152,18 @@ public:
 #ifdef itkOverrideGetNameOfClassMacro
   itkOverrideGetNameOfClassMacro(SmallIsoComponentImageFilter);
 #else
-  itkTypeMacro(SmallIsoComponentImageFilter, InPlaceImageFilter);
+  itkTypeMacro(SmallIsoComponentImageFilter, SmallIsoComponentImageFilterBase);
 #endif
 
-  /** The isovalue σ. Voxels with f >= σ are above, all others (NaN included) below. */
-  itkSetMacro(IsoValue, double);
-  itkGetConstMacro(IsoValue, double);
-
-  /** K: components with at most K voxels are removed; 0 removes nothing. Default 20. */
-  virtual void
-  SetMaximumComponentSize(SizeValueType size);
-  itkGetConstMacro(MaximumComponentSize, SizeValueType);
-
-  /** The threshold as a physical volume (units of the spacing, cubed): components whose
-   * volume is at most this are removed. Must be >= 0. */
-  virtual void
-  SetMaximumComponentVolume(double volume);
-  itkGetConstMacro(MaximumComponentVolume, double);
-
-  /** True when the last threshold set was MaximumComponentVolume. */
-  itkGetConstMacro(UseMaximumComponentVolume, bool);
-
-  /** Which side loses its small components. Default Both. */
-  itkSetEnumMacro(Side, SideEnum);
-  itkGetEnumMacro(Side, SideEnum);
-
-  /** Face connectivity (off, the default) or full connectivity (on). */
-  itkSetMacro(FullyConnected, bool);
-  itkGetConstReferenceMacro(FullyConnected, bool);
-  itkBooleanMacro(FullyConnected);
-
-  /** Whether Update() makes the mask of the removed voxels (output 1). Default off: the
-   * filter then needs no memory for it. */
-  itkSetMacro(GenerateRemovedMask, bool);
-  itkGetConstMacro(GenerateRemovedMask, bool);
-  itkBooleanMacro(GenerateRemovedMask);
-
-  /** Mask of the removed voxels: 0 kept, 1 removed above, 2 removed below. Filled only with
-   * GenerateRemovedMaskOn(); otherwise its buffered region is empty. */
-  MaskImageType *
-  GetRemovedMask();
-
   /** \name Statistics of the last Update()
-   * side is Above or Below (Both is not a side and gives an exception). */
+   * The parameters, the mask and the component counts of each side are those of
+   * SmallIsoComponentImageFilterBase. side is Above or Below (Both is not a side and gives an
+   * exception). */
   /** @{ */
-  SizeValueType
-  GetNumberOfComponents(SideEnum side) const;
-  SizeValueType
-  GetNumberOfRemovedComponents(SideEnum side) const;
-  SizeValueType
-  GetNumberOfRemovedVoxels(SideEnum side) const;
   const ComponentSizeHistogramType &
   GetComponentSizeHistogram(SideEnum side) const;
   itkGetConstMacro(NumberOfModifiedVoxels, SizeValueType);
   itkGetConstMacro(NumberOfUnrepairableVoxels, SizeValueType);
-  /** K used by the last Update() (from MaximumComponentVolume when that was set last). */
-  itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
   /** Peak bytes the last Update() held beyond input, output and (when generated) mask. */
   virtual SizeValueType
   GetPeakExtraMemoryInBytes() const
@@ -211,26 +172,12 @@ public:
   }
   /** @} */
 
-  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
-  using Superclass::MakeOutput;
-  DataObject::Pointer
-  MakeOutput(DataObjectPointerArraySizeType idx) override;
-
 protected:
-  SmallIsoComponentImageFilter();
+  SmallIsoComponentImageFilter() = default;
   ~SmallIsoComponentImageFilter() override = default;
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
-
-  // ProcessObject::VerifyPreconditions() is const, except in ITK 5 builds with ITKV4_COMPATIBILITY.
-#if defined(ITKV4_COMPATIBILITY)
-  void
-  VerifyPreconditions() override;
-#else
-  void
-  VerifyPreconditions() const override;
-#endif
 
   /** The whole image is needed: components reach anywhere. */
   void
@@ -238,26 +185,29 @@ protected:
   void
   EnlargeOutputRequestedRegion(DataObject * output) override;
 
-  /** Allocates the output, in place when asked and possible, and the mask only when it is
-   * to be generated. */
-  void
-  AllocateOutputs() override;
-
   void
   GenerateData() override;
 
+  /** The counts of \a side of the last Update(). */
+  typename Superclass::SideCounts
+  GetSideCounts(SideEnum side) const override;
+
 private:
+  // The parameters, which the phases read, and the K of the last Update().
+  using Superclass::m_IsoValue;
+  using Superclass::m_Side;
+  using Superclass::m_FullyConnected;
+  using Superclass::m_GenerateRemovedMask;
+  using Superclass::m_EffectiveMaximumComponentSize;
+
   using WorkTeam = SmallIsoComponentDetail::WorkTeam;
   using RunLabeling = SmallIsoComponentDetail::RunLabeling;
   using DeferredFill = SmallIsoComponentDetail::DeferredFill;
   using LineRun = RunLabeling::LineRun;
   using BelowGrouping = SmallIsoComponentDetail::BelowGrouping;
 
-  struct SideStatistics
+  struct SideStatistics : Superclass::SideCounts
   {
-    SizeValueType              Components{ 0 };
-    SizeValueType              RemovedComponents{ 0 };
-    SizeValueType              RemovedVoxels{ 0 };
     ComponentSizeHistogramType Histogram;
   };
 
@@ -285,10 +235,6 @@ private:
   /** \name The phases of GenerateData(), in order
    * Each phase reports the bytes it holds at its fullest to m_ExtraMemory. */
   /** @{ */
-  /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
-  SizeValueType
-  ComputeEffectiveMaximumComponentSize(const typename InputImageType::SpacingType & spacing) const;
-
   /** Encodes every line of the input as runs into \a labeling, after copying it to the
    * output and clearing its mask line, and returns an empty fill. Large images of one
    * pixel type are only encoded: the copy and the clearing are returned, to be done while
@@ -358,19 +304,10 @@ private:
   void
   EndPhase(ProgressTransformer & progress);
 
-  double        m_IsoValue{ 0.0 };
-  SizeValueType m_MaximumComponentSize{ 20 };
-  double        m_MaximumComponentVolume{ 0.0 };
-  bool          m_UseMaximumComponentVolume{ false };
-  SideEnum      m_Side{ SideEnum::Both };
-  bool          m_FullyConnected{ false };
-  bool          m_GenerateRemovedMask{ false };
-
   SideStatistics                      m_AboveStatistics;
   SideStatistics                      m_BelowStatistics;
   SizeValueType                       m_NumberOfModifiedVoxels{ 0 };
   SizeValueType                       m_NumberOfUnrepairableVoxels{ 0 };
-  SizeValueType                       m_EffectiveMaximumComponentSize{ 0 };
   SmallIsoComponentDetail::PeakMemory m_ExtraMemory;
 };
 } // end namespace itk

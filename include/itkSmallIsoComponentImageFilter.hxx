@@ -19,68 +19,16 @@
 #define itkSmallIsoComponentImageFilter_hxx
 
 #include "itkSmallIsoComponentImageFilter.h"
-#include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkSmallIsoComponentSizeCounter.h"
 #include "itkSmallIsoComponentStreamingStores.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 
 namespace itk
 {
-template <typename TInputImage, typename TOutputImage>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SmallIsoComponentImageFilter()
-{
-  this->SetNumberOfRequiredOutputs(2);
-  this->SetNthOutput(1, this->MakeOutput(1));
-  this->InPlaceOff();
-}
-
-template <typename TInputImage, typename TOutputImage>
-DataObject::Pointer
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::MakeOutput(DataObjectPointerArraySizeType idx)
-{
-  if (idx == 1)
-  {
-    return MaskImageType::New().GetPointer();
-  }
-  return Superclass::MakeOutput(idx);
-}
-
-template <typename TInputImage, typename TOutputImage>
-auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetRemovedMask() -> MaskImageType *
-{
-  return itkDynamicCastInDebugMode<MaskImageType *>(this->ProcessObject::GetOutput(1));
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SetMaximumComponentSize(SizeValueType size)
-{
-  if (m_MaximumComponentSize != size || m_UseMaximumComponentVolume)
-  {
-    m_MaximumComponentSize = size;
-    m_UseMaximumComponentVolume = false;
-    this->Modified();
-  }
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SetMaximumComponentVolume(double volume)
-{
-  if (Math::NotExactlyEquals(m_MaximumComponentVolume, volume) || !m_UseMaximumComponentVolume)
-  {
-    m_MaximumComponentVolume = volume;
-    m_UseMaximumComponentVolume = true;
-    this->Modified();
-  }
-}
-
 template <typename TInputImage, typename TOutputImage>
 auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) -> SideStatistics &
@@ -92,36 +40,16 @@ template <typename TInputImage, typename TOutputImage>
 auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) const -> const SideStatistics &
 {
-  switch (side)
-  {
-    case SideEnum::Above:
-      return m_AboveStatistics;
-    case SideEnum::Below:
-      return m_BelowStatistics;
-    default:
-      itkExceptionMacro("Statistics are kept per side: ask for SideEnum::Above or SideEnum::Below, not " << side);
-  }
+  this->VerifyStatisticsSide(side);
+  return side == SideEnum::Above ? m_AboveStatistics : m_BelowStatistics;
 }
 
 template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfComponents(SideEnum side) const
+auto
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetSideCounts(SideEnum side) const ->
+  typename Superclass::SideCounts
 {
-  return this->StatisticsOf(side).Components;
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedComponents(SideEnum side) const
-{
-  return this->StatisticsOf(side).RemovedComponents;
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedVoxels(SideEnum side) const
-{
-  return this->StatisticsOf(side).RemovedVoxels;
+  return this->StatisticsOf(side);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -130,29 +58,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetComponentSizeHistogr
   -> const ComponentSizeHistogramType &
 {
   return this->StatisticsOf(side).Histogram;
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyPreconditions()
-#if !defined(ITKV4_COMPATIBILITY)
-  const
-#endif
-{
-  Superclass::VerifyPreconditions();
-  if (std::isnan(m_IsoValue))
-  {
-    itkExceptionMacro("IsoValue is NaN; it must be a number (every voxel is compared with it).");
-  }
-  if (m_UseMaximumComponentVolume && !(m_MaximumComponentVolume >= 0.0))
-  {
-    itkExceptionMacro("MaximumComponentVolume is "
-                      << m_MaximumComponentVolume << "; it must be a volume >= 0 in the image's physical units cubed.");
-  }
-  if (m_Side != SideEnum::Above && m_Side != SideEnum::Below && m_Side != SideEnum::Both)
-  {
-    itkExceptionMacro("Side is " << static_cast<int>(m_Side) << "; it must be Above, Below or Both.");
-  }
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -177,25 +82,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EnlargeOutputRequestedR
       output->SetRequestedRegionToLargestPossibleRegion();
     }
   }
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::AllocateOutputs()
-{
-  if (!m_GenerateRemovedMask)
-  {
-    // The mask keeps its geometry, gives back a buffer an earlier update may have left,
-    // and is allocated with no voxels.
-    MaskImageType *                    mask = this->GetRemovedMask();
-    typename MaskImageType::RegionType none = mask->GetRequestedRegion();
-    typename MaskImageType::SizeType   noSize;
-    noSize.Fill(0);
-    none.SetSize(noSize);
-    mask->Initialize();
-    mask->SetRequestedRegion(none);
-  }
-  Superclass::AllocateOutputs();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -271,24 +157,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ResetStatistics()
   m_NumberOfModifiedVoxels = 0;
   m_NumberOfUnrepairableVoxels = 0;
   m_ExtraMemory.Reset();
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ComputeEffectiveMaximumComponentSize(
-  const typename InputImageType::SpacingType & spacing) const
-{
-  if (!m_UseMaximumComponentVolume)
-  {
-    return m_MaximumComponentSize;
-  }
-  double voxelVolume = 1.0;
-  for (unsigned int a = 0; a < ImageDimension; ++a)
-  {
-    voxelVolume *= spacing[a];
-  }
-  return static_cast<SizeValueType>(
-    SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume));
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -595,13 +463,6 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "IsoValue: " << m_IsoValue << std::endl;
-  os << indent << "MaximumComponentSize: " << m_MaximumComponentSize << std::endl;
-  os << indent << "MaximumComponentVolume: " << m_MaximumComponentVolume << std::endl;
-  os << indent << "UseMaximumComponentVolume: " << (m_UseMaximumComponentVolume ? "On" : "Off") << std::endl;
-  os << indent << "Side: " << m_Side << std::endl;
-  os << indent << "FullyConnected: " << (m_FullyConnected ? "On" : "Off") << std::endl;
-  os << indent << "GenerateRemovedMask: " << (m_GenerateRemovedMask ? "On" : "Off") << std::endl;
   os << indent << "EffectiveMaximumComponentSize: " << m_EffectiveMaximumComponentSize << std::endl;
   os << indent << "NumberOfComponents (above, below): " << m_AboveStatistics.Components << ", "
      << m_BelowStatistics.Components << std::endl;

@@ -18,11 +18,9 @@
 #ifndef itkSmallIsoComponentStreamingImageFilter_h
 #define itkSmallIsoComponentStreamingImageFilter_h
 
-#include "itkImageToImageFilter.h"
-#include "itkSmallIsoComponentEnums.h"
+#include "itkSmallIsoComponentImageFilterBase.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
 #include <deque>
-#include <map>
 #include <memory>
 #include <type_traits>
 
@@ -42,33 +40,38 @@ namespace itk
  * image's depth (see SmallIsoComponentDetail::StreamingSweep and docs/algorithm.md).
  *
  * Parameters and statistics are those of SmallIsoComponentImageFilter (IsoValue,
- * MaximumComponentSize or MaximumComponentVolume, Side, FullyConnected); the statistics are valid
- * once the last plane has been given out. Output 1 is the removed-voxel mask of each piece. Images
- * of two and three dimensions; the input is converted to the output pixel type first.
+ * MaximumComponentSize or MaximumComponentVolume, Side, FullyConnected, GenerateRemovedMask: see
+ * SmallIsoComponentImageFilterBase); the statistics are valid once the last plane has been given
+ * out. With GenerateRemovedMaskOn(), output 1 is the removed-voxel mask of each piece (the same
+ * planes as output 0); without it (the default) the filter keeps no mask planes and output 1 has
+ * an empty buffered region in every piece. Images of two and three dimensions; the input is
+ * converted to the output pixel type first. The filter never runs in place (CanRunInPlace() is
+ * false): the planes it gives out are not the ones its input holds at the time.
  *
  * \sa SmallIsoComponentImageFilter
  * \ingroup SmallIsoComponent
  */
 template <typename TInputImage, typename TOutputImage = TInputImage>
-class ITK_TEMPLATE_EXPORT SmallIsoComponentStreamingImageFilter : public ImageToImageFilter<TInputImage, TOutputImage>
+class ITK_TEMPLATE_EXPORT SmallIsoComponentStreamingImageFilter
+  : public SmallIsoComponentImageFilterBase<TInputImage, TOutputImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(SmallIsoComponentStreamingImageFilter);
 
   using Self = SmallIsoComponentStreamingImageFilter;
-  using Superclass = ImageToImageFilter<TInputImage, TOutputImage>;
+  using Superclass = SmallIsoComponentImageFilterBase<TInputImage, TOutputImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
-  using InputImageType = TInputImage;
-  using OutputImageType = TOutputImage;
-  using InputPixelType = typename InputImageType::PixelType;
-  using OutputPixelType = typename OutputImageType::PixelType;
-  static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
-  using MaskPixelType = uint8_t;
-  using MaskImageType = Image<MaskPixelType, ImageDimension>;
-  using SideEnum = SmallIsoComponentEnums::Side;
-  using ComponentSizeHistogramType = std::map<SizeValueType, SizeValueType>;
+  using InputImageType = typename Superclass::InputImageType;
+  using OutputImageType = typename Superclass::OutputImageType;
+  using InputPixelType = typename Superclass::InputPixelType;
+  using OutputPixelType = typename Superclass::OutputPixelType;
+  static constexpr unsigned int ImageDimension = Superclass::ImageDimension;
+  using MaskPixelType = typename Superclass::MaskPixelType;
+  using MaskImageType = typename Superclass::MaskImageType;
+  using SideEnum = typename Superclass::SideEnum;
+  using ComponentSizeHistogramType = typename Superclass::ComponentSizeHistogramType;
 
   static_assert(ImageDimension == 2 || ImageDimension == 3,
                 "SmallIsoComponentStreamingImageFilter handles images of two or three dimensions.");
@@ -79,65 +82,39 @@ public:
 #ifdef itkOverrideGetNameOfClassMacro
   itkOverrideGetNameOfClassMacro(SmallIsoComponentStreamingImageFilter);
 #else
-  itkTypeMacro(SmallIsoComponentStreamingImageFilter, ImageToImageFilter);
+  itkTypeMacro(SmallIsoComponentStreamingImageFilter, SmallIsoComponentImageFilterBase);
 #endif
 
-  itkSetMacro(IsoValue, double);
-  itkGetConstMacro(IsoValue, double);
-  virtual void
-  SetMaximumComponentSize(SizeValueType size);
-  itkGetConstMacro(MaximumComponentSize, SizeValueType);
-  virtual void
-  SetMaximumComponentVolume(double volume);
-  itkGetConstMacro(MaximumComponentVolume, double);
-  itkGetConstMacro(UseMaximumComponentVolume, bool);
-  itkSetEnumMacro(Side, SideEnum);
-  itkGetEnumMacro(Side, SideEnum);
-  itkSetMacro(FullyConnected, bool);
-  itkGetConstReferenceMacro(FullyConnected, bool);
-  itkBooleanMacro(FullyConnected);
   /** Planes labelled at a time (at least 1; default 8): thicker slabs cost memory, thinner ones
    * more merges. */
   itkSetClampMacro(SlabThickness, SizeValueType, 1, NumericTraits<SizeValueType>::max());
   itkGetConstMacro(SlabThickness, SizeValueType);
 
-  MaskImageType *
-  GetRemovedMask();
+  /** The filter never runs in place: InPlaceOn() has no effect. */
+  bool
+  CanRunInPlace() const override;
 
-  /** \name Statistics, valid once the last plane has been given out */
+  /** \name Statistics, valid once the last plane has been given out
+   * The component counts of each side are those of SmallIsoComponentImageFilterBase. */
   /** @{ */
-  SizeValueType
-  GetNumberOfComponents(SideEnum side) const;
-  SizeValueType
-  GetNumberOfRemovedComponents(SideEnum side) const;
-  SizeValueType
-  GetNumberOfRemovedVoxels(SideEnum side) const;
   ComponentSizeHistogramType
   GetComponentSizeHistogram(SideEnum side) const;
   SizeValueType
   GetNumberOfModifiedVoxels() const;
   SizeValueType
   GetNumberOfUnrepairableVoxels() const;
-  itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
   /** Most bytes the sweep held at once (planes, labellings, summaries, repairs, planes ready). */
   itkGetConstMacro(PeakMemoryInBytes, SizeValueType);
   /** Whether the statistics describe the whole image (every plane has been given out). */
   itkGetConstMacro(Complete, bool);
   /** @} */
 
-  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
-  using Superclass::MakeOutput;
-  DataObject::Pointer
-  MakeOutput(DataObjectPointerArraySizeType idx) override;
-
 protected:
-  SmallIsoComponentStreamingImageFilter();
+  SmallIsoComponentStreamingImageFilter() = default;
   ~SmallIsoComponentStreamingImageFilter() override;
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
-  void
-  VerifyPreconditions() const override;
   /** Pieces are whole planes. */
   void
   EnlargeOutputRequestedRegion(DataObject * output) override;
@@ -147,14 +124,25 @@ protected:
   void
   GenerateData() override;
 
+  /** The counts of \a side; throws before the first run. */
+  typename Superclass::SideCounts
+  GetSideCounts(SideEnum side) const override;
+
 private:
   using SweepType = SmallIsoComponentDetail::StreamingSweep<OutputPixelType>;
   struct ReadyPlane
   {
     uint64_t                     Plane;
     std::vector<OutputPixelType> Values;
-    std::vector<MaskPixelType>   Mask;
+    std::vector<MaskPixelType>   Mask; // empty without GenerateRemovedMask
   };
+  /** Bytes a ready plane holds. */
+  static SizeValueType
+  BytesOf(const ReadyPlane & ready);
+  /** Keeps a plane the sweep gives out (its mask, when there is one, without the fallback
+   * marks) until a piece asks for it. */
+  void
+  KeepReadyPlane(uint64_t plane, const OutputPixelType * values, const uint8_t * mask);
 
   /** The requested planes [first, end) of output 0. */
   void
@@ -164,12 +152,6 @@ private:
   void
   StartSweep();
 
-  double        m_IsoValue{ 0.0 };
-  SizeValueType m_MaximumComponentSize{ 20 };
-  double        m_MaximumComponentVolume{ 0.0 };
-  bool          m_UseMaximumComponentVolume{ false };
-  SideEnum      m_Side{ SideEnum::Both };
-  bool          m_FullyConnected{ false };
   SizeValueType m_SlabThickness{ 8 };
 
   std::unique_ptr<SweepType> m_Sweep;
@@ -179,7 +161,6 @@ private:
   uint64_t                   m_InputEnd{ 0 };
   std::deque<ReadyPlane>     m_Ready;
   SizeValueType              m_ReadyBytes{ 0 };
-  SizeValueType              m_EffectiveMaximumComponentSize{ 0 };
   SizeValueType              m_PeakMemoryInBytes{ 0 };
   bool                       m_Complete{ false };
 };

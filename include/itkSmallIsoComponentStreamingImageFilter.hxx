@@ -19,82 +19,25 @@
 #define itkSmallIsoComponentStreamingImageFilter_hxx
 
 #include "itkSmallIsoComponentStreamingImageFilter.h"
-#include "itkMath.h"
 #include <algorithm>
-#include <cmath>
 
 namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::SmallIsoComponentStreamingImageFilter()
-{
-  this->SetNumberOfRequiredOutputs(2);
-  this->SetNthOutput(1, this->MakeOutput(1));
-}
-
-template <typename TInputImage, typename TOutputImage>
 SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::~SmallIsoComponentStreamingImageFilter() = default;
 
 template <typename TInputImage, typename TOutputImage>
-DataObject::Pointer
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::MakeOutput(DataObjectPointerArraySizeType idx)
+bool
+SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::CanRunInPlace() const
 {
-  if (idx == 1)
-  {
-    return MaskImageType::New().GetPointer();
-  }
-  return Superclass::MakeOutput(idx);
+  return false;
 }
 
 template <typename TInputImage, typename TOutputImage>
-auto
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GetRemovedMask() -> MaskImageType *
+SizeValueType
+SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::BytesOf(const ReadyPlane & ready)
 {
-  return itkDynamicCastInDebugMode<MaskImageType *>(this->ProcessObject::GetOutput(1));
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::SetMaximumComponentSize(SizeValueType size)
-{
-  if (m_MaximumComponentSize != size || m_UseMaximumComponentVolume)
-  {
-    m_MaximumComponentSize = size;
-    m_UseMaximumComponentVolume = false;
-    this->Modified();
-  }
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::SetMaximumComponentVolume(double volume)
-{
-  if (Math::NotExactlyEquals(m_MaximumComponentVolume, volume) || !m_UseMaximumComponentVolume)
-  {
-    m_MaximumComponentVolume = volume;
-    m_UseMaximumComponentVolume = true;
-    this->Modified();
-  }
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
-{
-  Superclass::VerifyPreconditions();
-  if (std::isnan(m_IsoValue))
-  {
-    itkExceptionMacro("IsoValue is NaN; it must be a number (every voxel is compared with it).");
-  }
-  if (m_UseMaximumComponentVolume && !(m_MaximumComponentVolume >= 0.0))
-  {
-    itkExceptionMacro("MaximumComponentVolume is "
-                      << m_MaximumComponentVolume << "; it must be a volume >= 0 in the image's physical units cubed.");
-  }
-  if (m_Side != SideEnum::Above && m_Side != SideEnum::Below && m_Side != SideEnum::Both)
-  {
-    itkExceptionMacro("Side is " << static_cast<int>(m_Side) << "; it must be Above, Below or Both.");
-  }
+  return ready.Values.size() * sizeof(OutputPixelType) + ready.Mask.size() * sizeof(MaskPixelType);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -141,17 +84,7 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::StartSweep()
 {
   const InputImageType * input = this->GetInput();
   const auto &           size = input->GetLargestPossibleRegion().GetSize();
-  m_EffectiveMaximumComponentSize = m_MaximumComponentSize;
-  if (m_UseMaximumComponentVolume)
-  {
-    double voxelVolume = 1.0;
-    for (unsigned int a = 0; a < ImageDimension; ++a)
-    {
-      voxelVolume *= input->GetSpacing()[a];
-    }
-    m_EffectiveMaximumComponentSize =
-      SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume);
-  }
+  this->m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(input->GetSpacing());
   const typename SweepType::IndexType box =
     ImageDimension == 3 ? typename SweepType::IndexType{ size[0], size[1], size[ImageDimension - 1] }
                         : typename SweepType::IndexType{ size[0], 1, size[ImageDimension - 1] };
@@ -162,30 +95,39 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::StartSweep()
   m_Complete = false;
   m_PeakMemoryInBytes = 0;
   m_Sweep = std::make_unique<SweepType>(box,
-                                        m_IsoValue,
-                                        m_EffectiveMaximumComponentSize,
-                                        m_Side,
-                                        m_FullyConnected,
+                                        this->GetIsoValue(),
+                                        this->GetEffectiveMaximumComponentSize(),
+                                        this->GetSide(),
+                                        this->GetFullyConnected(),
                                         m_SlabThickness,
-                                        true,
+                                        this->GetGenerateRemovedMask(),
                                         this->GetMultiThreader(),
                                         this->GetNumberOfWorkUnits(),
                                         [this](uint64_t plane, const OutputPixelType * values, const uint8_t * mask) {
-                                          ReadyPlane ready;
-                                          const auto planeVoxels = static_cast<std::size_t>(
-                                            this->GetOutput()->GetLargestPossibleRegion().GetNumberOfPixels() /
-                                            this->GetOutput()->GetLargestPossibleRegion().GetSize(ImageDimension - 1));
-                                          ready.Plane = plane;
-                                          ready.Values.assign(values, values + planeVoxels);
-                                          ready.Mask.resize(planeVoxels);
-                                          // The sweep marks voxels that got the fallback value in the upper bits.
-                                          std::transform(mask, mask + planeVoxels, ready.Mask.begin(), [](uint8_t m) {
-                                            return static_cast<uint8_t>(m & 3);
-                                          });
-                                          m_ReadyBytes += planeVoxels * (sizeof(OutputPixelType) + 1);
-                                          m_Ready.push_back(std::move(ready));
+                                          this->KeepReadyPlane(plane, values, mask);
                                         });
   m_SweepTime = std::max(this->GetMTime(), input->GetPipelineMTime());
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::KeepReadyPlane(uint64_t                plane,
+                                                                                 const OutputPixelType * values,
+                                                                                 const uint8_t *         mask)
+{
+  const auto & largest = this->GetOutput()->GetLargestPossibleRegion();
+  const auto planeVoxels = static_cast<std::size_t>(largest.GetNumberOfPixels() / largest.GetSize(ImageDimension - 1));
+  ReadyPlane ready;
+  ready.Plane = plane;
+  ready.Values.assign(values, values + planeVoxels);
+  if (mask != nullptr)
+  {
+    ready.Mask.resize(planeVoxels);
+    // The sweep marks voxels that got the fallback value in the upper bits.
+    std::transform(mask, mask + planeVoxels, ready.Mask.begin(), [](uint8_t m) { return static_cast<uint8_t>(m & 3); });
+  }
+  m_ReadyBytes += BytesOf(ready);
+  m_Ready.push_back(std::move(ready));
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -211,7 +153,7 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GenerateInputR
   constexpr unsigned int last = ImageDimension - 1;
   const uint64_t         depth = largest.GetSize(last);
   // Planes beyond the piece decide it: at most the window's reach.
-  const uint64_t reach = SweepType::WindowPlanes(m_EffectiveMaximumComponentSize, m_SlabThickness);
+  const uint64_t reach = SweepType::WindowPlanes(this->GetEffectiveMaximumComponentSize(), m_SlabThickness);
   const uint64_t ready = m_Ready.empty() ? m_Sweep->GetNumberOfPlanesOut() : m_Ready.back().Plane + 1;
   m_InputEnd = ready >= end ? m_PlanesTaken : std::min(depth, std::max(m_PlanesTaken, end + reach));
   auto region = largest;
@@ -263,12 +205,12 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GenerateData()
   uint64_t end;
   this->RequestedPlanes(first, end);
   OutputPixelType * output = this->GetOutput()->GetBufferPointer();
-  MaskPixelType *   mask = this->GetRemovedMask()->GetBufferPointer();
+  MaskPixelType *   mask = this->GetGenerateRemovedMask() ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
   for (uint64_t plane = first; plane < end; ++plane)
   {
     while (!m_Ready.empty() && m_Ready.front().Plane < plane)
     {
-      m_ReadyBytes -= planeVoxels * (sizeof(OutputPixelType) + 1);
+      m_ReadyBytes -= BytesOf(m_Ready.front());
       m_Ready.pop_front();
     }
     if (m_Ready.empty() || m_Ready.front().Plane != plane)
@@ -277,8 +219,11 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GenerateData()
     }
     const auto & ready = m_Ready.front();
     std::copy(ready.Values.begin(), ready.Values.end(), output + (plane - first) * planeVoxels);
-    std::copy(ready.Mask.begin(), ready.Mask.end(), mask + (plane - first) * planeVoxels);
-    m_ReadyBytes -= planeVoxels * (sizeof(OutputPixelType) + 1);
+    if (mask != nullptr)
+    {
+      std::copy(ready.Mask.begin(), ready.Mask.end(), mask + (plane - first) * planeVoxels);
+    }
+    m_ReadyBytes -= BytesOf(ready);
     m_Ready.pop_front();
     m_PlanesGiven = plane + 1;
   }
@@ -290,10 +235,7 @@ template <typename TInputImage, typename TOutputImage>
 const SmallIsoComponentDetail::SideTally &
 SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::TallyOf(SideEnum side) const
 {
-  if (side != SideEnum::Above && side != SideEnum::Below)
-  {
-    itkExceptionMacro("Statistics are kept per side: ask for SideEnum::Above or SideEnum::Below, not " << side);
-  }
+  this->VerifyStatisticsSide(side);
   if (!m_Sweep)
   {
     itkExceptionMacro("No statistics yet: the filter has not run.");
@@ -302,24 +244,16 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::TallyOf(SideEn
 }
 
 template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GetNumberOfComponents(SideEnum side) const
+auto
+SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GetSideCounts(SideEnum side) const ->
+  typename Superclass::SideCounts
 {
-  return this->TallyOf(side).GetComponents();
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedComponents(SideEnum side) const
-{
-  return this->TallyOf(side).GetRemovedComponents();
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
-SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GetNumberOfRemovedVoxels(SideEnum side) const
-{
-  return this->TallyOf(side).GetRemovedVoxels();
+  const SmallIsoComponentDetail::SideTally & tally = this->TallyOf(side);
+  typename Superclass::SideCounts            counts;
+  counts.Components = tally.GetComponents();
+  counts.RemovedComponents = tally.GetRemovedComponents();
+  counts.RemovedVoxels = tally.GetRemovedVoxels();
+  return counts;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -350,14 +284,8 @@ void
 SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "IsoValue: " << m_IsoValue << std::endl;
-  os << indent << "MaximumComponentSize: " << m_MaximumComponentSize << std::endl;
-  os << indent << "MaximumComponentVolume: " << m_MaximumComponentVolume << std::endl;
-  os << indent << "UseMaximumComponentVolume: " << (m_UseMaximumComponentVolume ? "On" : "Off") << std::endl;
-  os << indent << "Side: " << m_Side << std::endl;
-  os << indent << "FullyConnected: " << (m_FullyConnected ? "On" : "Off") << std::endl;
   os << indent << "SlabThickness: " << m_SlabThickness << std::endl;
-  os << indent << "EffectiveMaximumComponentSize: " << m_EffectiveMaximumComponentSize << std::endl;
+  os << indent << "EffectiveMaximumComponentSize: " << this->GetEffectiveMaximumComponentSize() << std::endl;
   os << indent << "PeakMemoryInBytes: " << m_PeakMemoryInBytes << std::endl;
   os << indent << "Complete: " << (m_Complete ? "On" : "Off") << std::endl;
 }

@@ -135,7 +135,7 @@ RemoveSmallComponents(bool fullyConnected, const char * engine, const char * out
   else
   {
     auto filter = FilterType::New();
-    ITK_EXERCISE_BASIC_OBJECT_METHODS(filter, SmallIsoComponentImageFilter, InPlaceImageFilter);
+    ITK_EXERCISE_BASIC_OBJECT_METHODS(filter, SmallIsoComponentImageFilter, SmallIsoComponentImageFilterBase);
     ITK_TRY_EXPECT_EXCEPTION(filter->Update()); // no input yet
 
     filter->SetInput(input);

@@ -17,11 +17,15 @@
  *=========================================================================*/
 
 // The filter as an ITK object: parameters and their defaults, printing, errors,
-// progress and abort.
+// progress and abort; the streaming filter's share of the same interface, through their base
+// class.
 
 #include "itkCommand.h"
+#include "itkSmallIsoComponentStreamingImageFilter.h"
 #include "itkSmallIsoComponentTestUtilities.h"
 #include "gtest/gtest.h"
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -30,6 +34,8 @@ namespace
 using namespace itk::SmallIsoComponentTest;
 using ImageType = itk::Image<uint8_t, 3>;
 using FilterType = itk::SmallIsoComponentImageFilter<ImageType>;
+using StreamingFilterType = itk::SmallIsoComponentStreamingImageFilter<ImageType>;
+using BaseType = itk::SmallIsoComponentImageFilterBase<ImageType>;
 
 /** 16^3 voxels of uniform noise: with σ = 128 and K = 20, thousands of small components. */
 ImageType::Pointer
@@ -42,6 +48,35 @@ MakeSpeckledImage()
     v = static_cast<uint8_t>(random.Bits() >> 24);
   }
   return MakeImage<uint8_t, 3>({ 16, 16, 16 }, values);
+}
+
+/** What Print() writes for \a filter, with the same parameters set through the base class. */
+std::string
+PrintedWithParameters(BaseType * filter)
+{
+  filter->SetIsoValue(12.25);
+  filter->SetMaximumComponentVolume(7.5);
+  filter->SetMaximumComponentSize(9);
+  filter->SetSide(SideEnum::Below);
+  filter->FullyConnectedOn();
+  filter->GenerateRemovedMaskOn();
+  std::ostringstream printed;
+  filter->Print(printed);
+  return printed.str();
+}
+
+/** Runs \a filter on the speckled image with parameters set through the base class and
+ * GenerateRemovedMaskOn(). */
+void
+RunThroughTheBase(BaseType * filter, const ImageType * input)
+{
+  filter->SetInput(input);
+  filter->SetIsoValue(128);
+  filter->SetMaximumComponentVolume(6.0);
+  filter->SetSide(SideEnum::Both);
+  filter->FullyConnectedOff();
+  filter->GenerateRemovedMaskOn();
+  filter->Update();
 }
 
 /** The description of the exception \a call throws, or a note that it threw none. */
@@ -63,17 +98,27 @@ ExceptionDescription(TCall call)
 
 TEST(SmallIsoComponentInterface, Defaults)
 {
-  auto filter = FilterType::New();
-  EXPECT_EQ(filter->GetIsoValue(), 0.0);
-  EXPECT_EQ(filter->GetMaximumComponentSize(), 20u);
-  EXPECT_EQ(filter->GetMaximumComponentVolume(), 0.0);
-  EXPECT_FALSE(filter->GetUseMaximumComponentVolume());
-  EXPECT_EQ(filter->GetSide(), SideEnum::Both);
-  EXPECT_FALSE(filter->GetFullyConnected());
-  EXPECT_FALSE(filter->GetInPlace());
-  EXPECT_EQ(filter->GetNumberOfIndexedOutputs(), 2u);
-  EXPECT_NE(filter->GetRemovedMask(), nullptr);
-  EXPECT_STREQ(filter->GetNameOfClass(), "SmallIsoComponentImageFilter");
+  auto                            inMemory = FilterType::New();
+  auto                            streaming = StreamingFilterType::New();
+  const std::array<BaseType *, 2> filters{ { inMemory.GetPointer(), streaming.GetPointer() } };
+  for (BaseType * filter : filters)
+  {
+    EXPECT_EQ(filter->GetIsoValue(), 0.0);
+    EXPECT_EQ(filter->GetMaximumComponentSize(), 20u);
+    EXPECT_EQ(filter->GetMaximumComponentVolume(), 0.0);
+    EXPECT_FALSE(filter->GetUseMaximumComponentVolume());
+    EXPECT_EQ(filter->GetSide(), SideEnum::Both);
+    EXPECT_FALSE(filter->GetFullyConnected());
+    EXPECT_FALSE(filter->GetGenerateRemovedMask());
+    EXPECT_FALSE(filter->GetInPlace());
+    EXPECT_EQ(filter->GetNumberOfIndexedOutputs(), 2u);
+    EXPECT_NE(filter->GetRemovedMask(), nullptr);
+  }
+  EXPECT_TRUE(inMemory->CanRunInPlace());
+  EXPECT_STREQ(inMemory->GetNameOfClass(), "SmallIsoComponentImageFilter");
+  EXPECT_FALSE(streaming->CanRunInPlace());
+  EXPECT_EQ(streaming->GetSlabThickness(), 8u);
+  EXPECT_STREQ(streaming->GetNameOfClass(), "SmallIsoComponentStreamingImageFilter");
 }
 
 TEST(SmallIsoComponentInterface, SetAndGetEveryParameter)
@@ -131,24 +176,95 @@ TEST(SmallIsoComponentInterface, ChangingAParameterReruns)
 
 TEST(SmallIsoComponentInterface, PrintSelfMentionsEveryParameter)
 {
-  auto filter = FilterType::New();
-  filter->SetIsoValue(12.25);
-  filter->SetMaximumComponentVolume(7.5);
-  filter->SetMaximumComponentSize(9);
-  filter->SetSide(SideEnum::Below);
-  filter->FullyConnectedOn();
-  std::ostringstream printed;
-  filter->Print(printed);
-  const std::string text = printed.str();
-  for (const char * expected : { "IsoValue: 12.25",
-                                 "MaximumComponentSize: 9",
-                                 "MaximumComponentVolume: 7.5",
-                                 "UseMaximumComponentVolume: Off",
-                                 "Side: itk::SmallIsoComponentEnums::Side::Below",
-                                 "FullyConnected: On" })
+  auto streaming = StreamingFilterType::New();
+  streaming->SetSlabThickness(3);
+  for (const std::string & text : { PrintedWithParameters(FilterType::New()), PrintedWithParameters(streaming) })
   {
-    EXPECT_NE(text.find(expected), std::string::npos) << "\"" << expected << "\" not in\n" << text;
+    for (const char * expected : { "IsoValue: 12.25",
+                                   "MaximumComponentSize: 9",
+                                   "MaximumComponentVolume: 7.5",
+                                   "UseMaximumComponentVolume: Off",
+                                   "Side: itk::SmallIsoComponentEnums::Side::Below",
+                                   "FullyConnected: On",
+                                   "GenerateRemovedMask: On",
+                                   "EffectiveMaximumComponentSize: 0" })
+    {
+      EXPECT_NE(text.find(expected), std::string::npos) << "\"" << expected << "\" not in\n" << text;
+    }
   }
+  std::ostringstream printed;
+  streaming->Print(printed);
+  EXPECT_NE(printed.str().find("SlabThickness: 3"), std::string::npos) << printed.str();
+}
+
+TEST(SmallIsoComponentInterface, BothFiltersThroughTheBaseClass)
+{
+  const auto input = MakeSpeckledImage();
+  auto       inMemory = FilterType::New();
+  auto       streaming = StreamingFilterType::New();
+  RunThroughTheBase(inMemory, input);
+  RunThroughTheBase(streaming, input);
+  const std::array<BaseType *, 2> filters{ { inMemory.GetPointer(), streaming.GetPointer() } };
+  for (BaseType * filter : filters)
+  {
+    // A volume of 6 voxels of spacing 1.
+    EXPECT_TRUE(filter->GetUseMaximumComponentVolume()) << filter->GetNameOfClass();
+    EXPECT_EQ(filter->GetEffectiveMaximumComponentSize(), 6u) << filter->GetNameOfClass();
+    for (const SideEnum side : { SideEnum::Above, SideEnum::Below })
+    {
+      EXPECT_EQ(filter->GetNumberOfComponents(side), inMemory->GetNumberOfComponents(side));
+      EXPECT_EQ(filter->GetNumberOfRemovedComponents(side), inMemory->GetNumberOfRemovedComponents(side));
+      EXPECT_EQ(filter->GetNumberOfRemovedVoxels(side), inMemory->GetNumberOfRemovedVoxels(side));
+      EXPECT_THROW(filter->GetNumberOfComponents(SideEnum::Both), itk::ExceptionObject);
+    }
+    const auto * mask = filter->GetRemovedMask();
+    ASSERT_EQ(mask->GetBufferedRegion(), input->GetLargestPossibleRegion()) << filter->GetNameOfClass();
+    EXPECT_TRUE(std::equal(mask->GetBufferPointer(),
+                           mask->GetBufferPointer() + input->GetLargestPossibleRegion().GetNumberOfPixels(),
+                           inMemory->GetRemovedMask()->GetBufferPointer()))
+      << filter->GetNameOfClass();
+  }
+  EXPECT_GT(inMemory->GetNumberOfRemovedComponents(SideEnum::Above), 0u);
+  EXPECT_GT(inMemory->GetNumberOfRemovedComponents(SideEnum::Below), 0u);
+  EXPECT_EQ(streaming->GetNumberOfModifiedVoxels(), inMemory->GetNumberOfModifiedVoxels());
+  EXPECT_EQ(streaming->GetComponentSizeHistogram(SideEnum::Below),
+            inMemory->GetComponentSizeHistogram(SideEnum::Below));
+}
+
+TEST(SmallIsoComponentInterface, StreamingFilterNeverRunsInPlace)
+{
+  const auto                 input = MakeSpeckledImage();
+  const auto                 n = input->GetLargestPossibleRegion().GetNumberOfPixels();
+  const std::vector<uint8_t> before(input->GetBufferPointer(), input->GetBufferPointer() + n);
+  auto                       filter = StreamingFilterType::New();
+  filter->SetInput(input);
+  filter->SetIsoValue(128);
+  filter->InPlaceOn();
+  filter->Update();
+  EXPECT_NE(filter->GetOutput()->GetBufferPointer(), input->GetBufferPointer());
+  EXPECT_TRUE(std::equal(before.begin(), before.end(), input->GetBufferPointer())) << "the input was written";
+  EXPECT_GT(filter->GetNumberOfModifiedVoxels(), 0u);
+}
+
+TEST(SmallIsoComponentInterface, StreamingFilterChecksItsParameters)
+{
+  auto filter = StreamingFilterType::New();
+  EXPECT_NE(ExceptionDescription([&] { filter->GetNumberOfComponents(SideEnum::Above); }).find("has not run"),
+            std::string::npos);
+  filter->SetInput(MakeSpeckledImage());
+  filter->SetIsoValue(std::nan(""));
+  EXPECT_NE(ExceptionDescription([&] { filter->Update(); }).find("IsoValue"), std::string::npos);
+  filter->SetIsoValue(100);
+  filter->SetMaximumComponentVolume(-1.0);
+  EXPECT_NE(ExceptionDescription([&] { filter->Update(); }).find("MaximumComponentVolume"), std::string::npos);
+  filter->SetMaximumComponentSize(3);
+  filter->SetSide(static_cast<SideEnum>(7));
+  EXPECT_NE(ExceptionDescription([&] { filter->Update(); }).find("Side"), std::string::npos);
+  filter->SetSide(SideEnum::Both);
+  EXPECT_NO_THROW(filter->Update());
+  EXPECT_NE(ExceptionDescription([&] { filter->GetNumberOfRemovedVoxels(SideEnum::Both); }).find("per side"),
+            std::string::npos);
+  EXPECT_THROW(filter->GetComponentSizeHistogram(SideEnum::Both), itk::ExceptionObject);
 }
 
 TEST(SmallIsoComponentInterface, SideEnumPrintsItsQualifiedName)

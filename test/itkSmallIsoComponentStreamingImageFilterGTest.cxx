@@ -27,6 +27,7 @@
 
 #include "gtest/gtest.h"
 
+#include <algorithm>
 #include <filesystem>
 
 namespace
@@ -104,6 +105,9 @@ ExpectStreamingMatchesInMemory(const RandomCase<TPixel, VDimension> & c, unsigne
 
   EXPECT_EQ(CountDifferentVoxels(streamer->GetOutput(), expected->GetOutput()), 0u) << c.Description;
   EXPECT_TRUE(filter->GetComplete());
+  // Without GenerateRemovedMaskOn() no piece of the mask was made.
+  EXPECT_EQ(filter->GetRemovedMask()->GetBufferedRegion().GetNumberOfPixels(), 0u) << c.Description;
+  EXPECT_EQ(filter->GetRemovedMask()->GetPixelContainer()->Capacity(), 0u) << c.Description;
   using Side = SmallIsoComponentEnums::Side;
   for (const Side side : { Side::Above, Side::Below })
   {
@@ -124,6 +128,46 @@ ExpectStreamingMatchesInMemory(const RandomCase<TPixel, VDimension> & c, unsigne
     EXPECT_LT(recorder->LargestRequest, voxels) << c.Description;
   }
   EXPECT_GT(recorder->Requests, 0u);
+}
+
+/** The mask pulled in pieces (output 1 streamed on its own) against the in-memory filter's;
+ * returns the number of removed voxels the mask marks. */
+template <typename TPixel, unsigned int VDimension>
+SizeValueType
+ExpectStreamedMaskMatchesInMemory(const RandomCase<TPixel, VDimension> & c, unsigned int divisions, SizeValueType slab)
+{
+  using ImageType = Image<TPixel, VDimension>;
+  using FilterType = SmallIsoComponentStreamingImageFilter<ImageType>;
+  using MaskImageType = typename FilterType::MaskImageType;
+  const auto expected = RunFilter<ImageType>(c.Input, c.Settings, 1);
+
+  auto filter = FilterType::New();
+  filter->SetInput(c.Input);
+  filter->SetIsoValue(c.Settings.IsoValue);
+  filter->SetMaximumComponentSize(c.Settings.MaximumComponentSize);
+  filter->SetSide(c.Settings.Side);
+  filter->SetFullyConnected(c.Settings.FullyConnected);
+  filter->SetSlabThickness(slab);
+  filter->GenerateRemovedMaskOn();
+  auto streamer = StreamingImageFilter<MaskImageType, MaskImageType>::New();
+  streamer->SetInput(filter->GetRemovedMask());
+  streamer->SetNumberOfStreamDivisions(divisions);
+  streamer->Update();
+
+  const MaskImageType * mask = streamer->GetOutput();
+  EXPECT_EQ(mask->GetBufferedRegion(), expected->GetRemovedMask()->GetBufferedRegion()) << c.Description;
+  if (mask->GetBufferedRegion() != expected->GetRemovedMask()->GetBufferedRegion())
+  {
+    return 0;
+  }
+  EXPECT_EQ(CountDifferentVoxels(mask, expected->GetRemovedMask()), 0u) << c.Description;
+  EXPECT_TRUE(filter->GetComplete());
+  EXPECT_EQ(filter->GetNumberOfModifiedVoxels(), expected->GetNumberOfModifiedVoxels()) << c.Description;
+  // The last piece of the mask is in the filter's output 1, as large as that piece of output 0.
+  EXPECT_EQ(filter->GetRemovedMask()->GetBufferedRegion(), filter->GetOutput()->GetBufferedRegion());
+  const SizeValueType n = mask->GetBufferedRegion().GetNumberOfPixels();
+  return static_cast<SizeValueType>(
+    std::count_if(mask->GetBufferPointer(), mask->GetBufferPointer() + n, [](uint8_t m) { return m != 0; }));
 }
 } // namespace
 
@@ -160,6 +204,25 @@ TEST(SmallIsoComponentStreamingImageFilter, TallVolumeIsReadInPieces)
   c.Settings.MaximumComponentSize = 3;
   c.Settings.Side = SmallIsoComponentEnums::Side::Both;
   ExpectStreamingMatchesInMemory(c, 20, 4);
+}
+
+TEST(SmallIsoComponentStreamingImageFilter, MaskPiecesMatchTheInMemoryMask)
+{
+  SizeValueType marked3D = 0;
+  for (uint32_t seed = 201; seed <= 230; ++seed)
+  {
+    const auto c = MakeRandomCase<uint8_t, uint8_t, 3>(seed, seed % 3 == 0);
+    marked3D += ExpectStreamedMaskMatchesInMemory(c, 1 + seed % 7, 1 + seed % 4);
+  }
+  SizeValueType marked2D = 0;
+  for (uint32_t seed = 301; seed <= 330; ++seed)
+  {
+    const auto c = MakeRandomCase<float, float, 2>(seed);
+    marked2D += ExpectStreamedMaskMatchesInMemory(c, 1 + seed % 5, 1 + seed % 3);
+  }
+  // The cases remove voxels, so the masks compared are not all zero.
+  EXPECT_GT(marked3D, 0u);
+  EXPECT_GT(marked2D, 0u);
 }
 
 TEST(SmallIsoComponentStreamingImageFilter, AStreamingWriterWritesTheInMemoryResult)
