@@ -98,6 +98,8 @@ check(filter.GetMaximumComponentSize() == 20, "default MaximumComponentSize is 2
 check(filter.GetSide() == Side.Side_Both, "default Side is Both")
 check(not filter.GetFullyConnected(), "default FullyConnected is off")
 check(not filter.GetGenerateRemovedMask(), "default GenerateRemovedMask is off")
+check(isinstance(filter, itk.SmallIsoComponentImageFilterBase[ImageType, ImageType]),
+      "the filter is a SmallIsoComponentImageFilterBase, wrapped for the same types")
 
 filter.SetIsoValue(50.0)
 filter.SetMaximumComponentSize(5)
