@@ -26,14 +26,27 @@ namespace itk
 namespace SmallIsoComponentDetail
 {
 template <typename TPixel>
+SizeValueType
+RunEncoder<TPixel>::CountRuns(const TPixel * values, SizeValueType length) const
+{
+  SizeValueType changes = 0;
+  for (SizeValueType x = 1; x < length; ++x)
+  {
+    changes += m_Threshold.IsAbove(values[x]) != m_Threshold.IsAbove(values[x - 1]) ? 1 : 0;
+  }
+  return changes + 1;
+}
+
+template <typename TPixel>
+template <typename TAppend>
 bool
-RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const
+RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TAppend && append) const
 {
 #if defined(__SSE2__)
   if constexpr (UsesSimd)
   {
     const bool firstAbove = m_Threshold.IsAbove(values[0]);
-    starts.push_back(0);
+    append(0);
     if (!m_Threshold.AnyAbove())
     {
       return firstAbove;
@@ -47,7 +60,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
     const auto             addStarts = [&](uint64_t change, SizeValueType base) {
       for (; change != 0; change &= change - 1)
       {
-        starts.push_back(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
+        append(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
       }
     };
     for (; x + 64 <= length; x += 64)
@@ -98,24 +111,23 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
   else
 #endif
   {
-    return this->EncodeLineBySearch(values, length, starts);
+    return this->EncodeLineBySearch(values, length, append);
   }
 }
 
 template <typename TPixel>
+template <typename TAppend>
 bool
-RunEncoder<TPixel>::EncodeLineBySearch(const TPixel *                values,
-                                       SizeValueType                 length,
-                                       std::vector<CoordinateType> & starts) const
+RunEncoder<TPixel>::EncodeLineBySearch(const TPixel * values, SizeValueType length, TAppend && append) const
 {
   const bool firstAbove = m_Threshold.IsAbove(values[0]);
   bool       above = firstAbove;
-  starts.push_back(0);
+  append(0);
   for (SizeValueType x = m_Threshold.NextSideChange(values, 1, length, above); x < length;
        x = m_Threshold.NextSideChange(values, x + 1, length, above))
   {
     above = !above;
-    starts.push_back(static_cast<CoordinateType>(x));
+    append(static_cast<CoordinateType>(x));
   }
   return firstAbove;
 }
