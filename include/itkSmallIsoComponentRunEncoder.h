@@ -139,6 +139,15 @@ public:
   static constexpr SizeValueType BlockBytes = 32768;
 
 private:
+#if defined(__SSE2__)
+  /** The SIMD path: calls addChanges(change, base) with the bits of the voxels base to
+   * base + 63 at which a run starts (voxel 0 excluded; all the calls in order) and returns
+   * whether the first run is above. */
+  template <typename TChanges>
+  bool
+  ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const;
+#endif
+
   Threshold<TPixel> m_Threshold;
 };
 } // namespace SmallIsoComponentDetail

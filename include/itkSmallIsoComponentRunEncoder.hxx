@@ -29,12 +29,25 @@ template <typename TPixel>
 SizeValueType
 RunEncoder<TPixel>::CountRuns(const TPixel * values, SizeValueType length) const
 {
-  SizeValueType changes = 0;
-  for (SizeValueType x = 1; x < length; ++x)
+#if defined(__SSE2__)
+  if constexpr (UsesSimd)
   {
-    changes += m_Threshold.IsAbove(values[x]) != m_Threshold.IsAbove(values[x - 1]) ? 1 : 0;
+    SizeValueType runs = 1;
+    this->ForEachSideChange(values, length, [&runs](uint64_t change, SizeValueType) {
+      runs += static_cast<SizeValueType>(__builtin_popcountll(change));
+    });
+    return runs;
   }
-  return changes + 1;
+  else
+#endif
+  {
+    SizeValueType changes = 0;
+    for (SizeValueType x = 1; x < length; ++x)
+    {
+      changes += m_Threshold.IsAbove(values[x]) != m_Threshold.IsAbove(values[x - 1]) ? 1 : 0;
+    }
+    return changes + 1;
+  }
 }
 
 template <typename TPixel>
@@ -45,8 +58,29 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
 #if defined(__SSE2__)
   if constexpr (UsesSimd)
   {
-    const bool firstAbove = m_Threshold.IsAbove(values[0]);
     append(0);
+    return this->ForEachSideChange(values, length, [&](uint64_t change, SizeValueType base) {
+      for (; change != 0; change &= change - 1)
+      {
+        append(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
+      }
+    });
+  }
+  else
+#endif
+  {
+    return this->EncodeLineBySearch(values, length, append);
+  }
+}
+
+#if defined(__SSE2__)
+template <typename TPixel>
+template <typename TChanges>
+bool
+RunEncoder<TPixel>::ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const
+{
+  {
+    const bool firstAbove = m_Threshold.IsAbove(values[0]);
     if (!m_Threshold.AnyAbove())
     {
       return firstAbove;
@@ -57,12 +91,6 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
     constexpr bool         marksAbove = SideBitsMarkAbove<TPixel>;
     uint64_t               previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
     SizeValueType          x = 0;
-    const auto             addStarts = [&](uint64_t change, SizeValueType base) {
-      for (; change != 0; change &= change - 1)
-      {
-        append(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
-      }
-    };
     for (; x + 64 <= length; x += 64)
     {
       const uint64_t bits = uint64_t{ sideBits(values + x) } | uint64_t{ sideBits(values + x + 16) } << 16 |
@@ -71,7 +99,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
       previous = bits >> 63;
       if (change != 0)
       {
-        addStarts(change, x);
+        addChanges(change, x);
       }
     }
     for (; x + 16 <= length; x += 16)
@@ -81,7 +109,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
       previous = bits >> 15;
       if (change != 0)
       {
-        addStarts(change, x);
+        addChanges(change, x);
       }
     }
     if (x < length)
@@ -91,7 +119,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
         // The last 16 voxels, of which the ones before x are done.
         const SizeValueType last = length - 16;
         const uint64_t      bits = sideBits(values + last);
-        addStarts((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
+        addChanges((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
       }
       else
       {
@@ -100,7 +128,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
           const uint64_t bit = m_Threshold.IsAbove(values[x]) == marksAbove ? 1 : 0;
           if (bit != previous)
           {
-            addStarts(1, x);
+            addChanges(1, x);
           }
           previous = bit;
         }
@@ -108,12 +136,8 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
     }
     return firstAbove;
   }
-  else
-#endif
-  {
-    return this->EncodeLineBySearch(values, length, append);
-  }
 }
+#endif
 
 template <typename TPixel>
 template <typename TAppend>

@@ -88,9 +88,7 @@ RunLabeling::ReserveRuns()
                                 "(SmallIsoComponentFilter --memory-limit), which labels fewer at a time");
   }
   m_NumberOfRuns = numberOfRuns;
-  // One entry spare: LinkLines() reads the start after a line's last run.
-  m_RunStart.Reserve(numberOfRuns + 1);
-  m_RunStart.data()[numberOfRuns] = 0;
+  m_RunStart.Reserve(numberOfRuns);
   m_RunLabel.Reserve(numberOfRuns);
 }
 
@@ -163,56 +161,44 @@ RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
   // pair changes side exactly when one of its runs advances. With full connectivity runs
   // also touch diagonally where both end at the same x: then the run after each one meets
   // the other, and those pairs are on the same side exactly when the pair itself is not.
-  // Where the sides change at random the merge's decisions cannot be predicted: it is
-  // written without branches, and the pairs to join are buffered and joined in bulk.
   const CoordinateType * const start = m_RunStart.data();
   const auto                   length = static_cast<CoordinateType>(m_Size[0]);
-  const bool                   full = m_FullyConnected;
-  // start[run + 1] is readable for every run (ReserveRuns() keeps one entry spare).
-  const auto endOf = [start, length](RunIndexType run, RunIndexType last) {
-    const CoordinateType next = start[run + 1];
-    return run < last ? next : length;
-  };
-  constexpr unsigned int BufferPairs = 256;
-  RunIndexType           pairs[BufferPairs + 3][2];
-  unsigned int           buffered = 0;
-  CoordinateType         endA = endOf(a, aLast);
-  CoordinateType         endB = endOf(b, bLast);
+  CoordinateType               endA = a < aLast ? start[a + 1] : length;
+  CoordinateType               endB = b < bLast ? start[b + 1] : length;
   while (true)
   {
-    pairs[buffered][0] = a;
-    pairs[buffered][1] = b;
-    buffered += sameSide ? 1 : 0;
-    const bool advanceA = endA <= endB;
-    const bool advanceB = endB <= endA;
-    if (std::min(endA, endB) == length)
+    if (sameSide)
     {
-      break;
+      this->Union(a, b);
     }
-    // Both end here (not at the line's end): the diagonal pairs, with full connectivity.
-    const bool diagonal = full && advanceA && advanceB && !sameSide;
-    pairs[buffered][0] = a;
-    pairs[buffered][1] = b + 1;
-    pairs[buffered + 1][0] = a + 1;
-    pairs[buffered + 1][1] = b;
-    buffered += diagonal ? 2 : 0;
-    a += advanceA ? 1 : 0;
-    b += advanceB ? 1 : 0;
-    sameSide = sameSide != (advanceA != advanceB);
-    endA = endOf(a, aLast);
-    endB = endOf(b, bLast);
-    if (buffered >= BufferPairs)
+    if (endA < endB)
     {
-      for (unsigned int i = 0; i < buffered; ++i)
+      ++a;
+      sameSide = !sameSide;
+      endA = a < aLast ? start[a + 1] : length;
+    }
+    else if (endB < endA)
+    {
+      ++b;
+      sameSide = !sameSide;
+      endB = b < bLast ? start[b + 1] : length;
+    }
+    else
+    {
+      if (a == aLast || b == bLast)
       {
-        this->Union(pairs[i][0], pairs[i][1]);
+        return;
       }
-      buffered = 0;
+      if (m_FullyConnected && !sameSide)
+      {
+        this->Union(a, b + 1);
+        this->Union(a + 1, b);
+      }
+      ++a;
+      ++b;
+      endA = a < aLast ? start[a + 1] : length;
+      endB = b < bLast ? start[b + 1] : length;
     }
-  }
-  for (unsigned int i = 0; i < buffered; ++i)
-  {
-    this->Union(pairs[i][0], pairs[i][1]);
   }
 }
 
