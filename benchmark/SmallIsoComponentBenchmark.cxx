@@ -114,8 +114,7 @@ private:
   void
   Start()
   {
-    m_Begin = std::chrono::steady_clock::now();
-    m_Last = m_Begin;
+    m_Last = std::chrono::steady_clock::now();
     m_Ms.assign(Phases.size(), std::nan(""));
     m_Next = 0;
   }
@@ -133,7 +132,6 @@ private:
   }
 
   itk::ProcessObject *                  m_Filter;
-  std::chrono::steady_clock::time_point m_Begin;
   std::chrono::steady_clock::time_point m_Last;
   std::vector<double>                   m_Ms;
   std::size_t                           m_Next{ 0 };

@@ -30,6 +30,11 @@
 namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SmallIsoComponentImageFilter()
+  : m_Labeling(std::make_unique<SmallIsoComponentDetail::RunLabeling>())
+{}
+
+template <typename TInputImage, typename TOutputImage>
 auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StatisticsOf(SideEnum side) -> SideStatistics &
 {
@@ -86,6 +91,20 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EnlargeOutputRequestedR
 
 template <typename TInputImage, typename TOutputImage>
 void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ReleaseWorkingMemory()
+{
+  m_Labeling->ReleaseMemory();
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetWorkingMemoryInBytes() const
+{
+  return m_Labeling->GetMemoryInBytes();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
   // The parallel steps are short: one team of threads takes them all, instead of waking
@@ -100,7 +119,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // The components of both sides, labelled over the lines' runs.
   const auto & size = this->GetOutput()->GetBufferedRegion().GetSize();
-  RunLabeling  labeling;
+  // The labelling's arrays are kept from the last update (see ReleaseWorkingMemory()).
+  RunLabeling & labeling = *m_Labeling;
   labeling.Initialize(
     std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
   ProgressTransformer encodeProgress(0.0f, 0.3f, this);

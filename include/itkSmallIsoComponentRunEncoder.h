@@ -56,22 +56,43 @@ public:
   static constexpr bool UsesSimd = false;
 #endif
 
-  /** Appends the start of every run of the \a length voxels at \a values to \a starts
-   * (the first run's 0 included) and returns whether the first run is above. */
+  /** Calls append(start) for the start of every run of the \a length voxels at \a values,
+   * in order (the first run's 0 included), and returns whether the first run is above. */
+  template <typename TAppend>
   bool
-  EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const;
+  EncodeLine(const TPixel * values, SizeValueType length, TAppend && append) const;
 
   /** The same through the search for the next change of side: the path of the pixel types
    * without SIMD compares, here for every type, so that the two can be compared. */
+  template <typename TAppend>
   bool
-  EncodeLineBySearch(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const;
+  EncodeLineBySearch(const TPixel * values, SizeValueType length, TAppend && append) const;
+
+  /** Appends the starts to \a starts. */
+  bool
+  EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const
+  {
+    return this->EncodeLine(values, length, [&starts](CoordinateType start) { starts.push_back(start); });
+  }
+  bool
+  EncodeLineBySearch(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const
+  {
+    return this->EncodeLineBySearch(values, length, [&starts](CoordinateType start) { starts.push_back(start); });
+  }
+
+  /** The number of runs of the \a length voxels at \a values (at least 1), by one
+   * comparison per voxel without branches. */
+  SizeValueType
+  CountRuns(const TPixel * values, SizeValueType length) const;
 
   /** Encodes every line of \a buffer (the whole image, lines along axis 0) into
-   * \a labeling, the slabs shared among the members of \a team. prepareLines(first, end)
-   * is called for consecutive blocks of lines of a slab (about BlockBytes of voxels each)
-   * just before their lines are read, so that the caller can fill the buffer block by
-   * block while it is in cache; finishSlab() is called by the work unit that encoded a
-   * slab, after its last line. */
+   * \a labeling, the slabs shared among the members of \a team: first the runs of every
+   * line are counted, then the labeling makes room for all of them at once and each line
+   * writes its starts in place, so the run array is neither grown nor copied.
+   * prepareLines(first, end) is called for consecutive blocks of lines of a slab (about
+   * BlockBytes of voxels each) just before their lines are first read, so that the caller
+   * can fill the buffer block by block while it is in cache; finishSlab() is called by the
+   * work unit that counted a slab, after its last line. */
   template <typename TPrepareLines, typename TFinishSlab>
   void
   Encode(const TPixel *   buffer,
@@ -83,7 +104,6 @@ public:
     const SizeValueType length = labeling.GetLineLength();
     const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
     team.ForEach(labeling.GetNumberOfSlabs(), [&](SizeValueType slab) {
-      auto &              starts = labeling.GetSlabRunStarts(slab);
       const SizeValueType slabEnd = labeling.GetSlabBeginLine(slab + 1);
       for (SizeValueType block = labeling.GetSlabBeginLine(slab); block < slabEnd; block += linesPerBlock)
       {
@@ -91,14 +111,19 @@ public:
         prepareLines(block, blockEnd);
         for (SizeValueType line = block; line < blockEnd; ++line)
         {
-          const SizeValueType earlierRuns = starts.size();
-          const bool          firstAbove = this->EncodeLine(buffer + line * length, length, starts);
-          labeling.SetLineRuns(line, starts.size() - earlierRuns, firstAbove);
+          const TPixel * values = buffer + line * length;
+          labeling.SetLineRuns(line, this->CountRuns(values, length), m_Threshold.IsAbove(values[0]));
         }
       }
-      // AssembleRuns() holds these and the joined arrays at once: no spare capacity.
-      starts.shrink_to_fit();
       finishSlab();
+    });
+    labeling.ReserveRuns();
+    team.ForEach(labeling.GetNumberOfSlabs(), [&](SizeValueType slab) {
+      for (SizeValueType line = labeling.GetSlabBeginLine(slab); line < labeling.GetSlabBeginLine(slab + 1); ++line)
+      {
+        CoordinateType * starts = labeling.GetLineRunStarts(line);
+        this->EncodeLine(buffer + line * length, length, [&starts](CoordinateType start) { *starts++ = start; });
+      }
     });
   }
 
@@ -114,6 +139,15 @@ public:
   static constexpr SizeValueType BlockBytes = 32768;
 
 private:
+#if defined(__SSE2__)
+  /** The SIMD path: calls addChanges(change, base) with the bits of the voxels base to
+   * base + 63 at which a run starts (voxel 0 excluded; all the calls in order) and returns
+   * whether the first run is above. */
+  template <typename TChanges>
+  bool
+  ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const;
+#endif
+
   Threshold<TPixel> m_Threshold;
 };
 } // namespace SmallIsoComponentDetail

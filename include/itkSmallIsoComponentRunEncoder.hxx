@@ -26,14 +26,61 @@ namespace itk
 namespace SmallIsoComponentDetail
 {
 template <typename TPixel>
-bool
-RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std::vector<CoordinateType> & starts) const
+SizeValueType
+RunEncoder<TPixel>::CountRuns(const TPixel * values, SizeValueType length) const
 {
 #if defined(__SSE2__)
   if constexpr (UsesSimd)
   {
+    SizeValueType runs = 1;
+    this->ForEachSideChange(values, length, [&runs](uint64_t change, SizeValueType) {
+      runs += static_cast<SizeValueType>(__builtin_popcountll(change));
+    });
+    return runs;
+  }
+  else
+#endif
+  {
+    SizeValueType changes = 0;
+    for (SizeValueType x = 1; x < length; ++x)
+    {
+      changes += m_Threshold.IsAbove(values[x]) != m_Threshold.IsAbove(values[x - 1]) ? 1 : 0;
+    }
+    return changes + 1;
+  }
+}
+
+template <typename TPixel>
+template <typename TAppend>
+bool
+RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TAppend && append) const
+{
+#if defined(__SSE2__)
+  if constexpr (UsesSimd)
+  {
+    append(0);
+    return this->ForEachSideChange(values, length, [&](uint64_t change, SizeValueType base) {
+      for (; change != 0; change &= change - 1)
+      {
+        append(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
+      }
+    });
+  }
+  else
+#endif
+  {
+    return this->EncodeLineBySearch(values, length, append);
+  }
+}
+
+#if defined(__SSE2__)
+template <typename TPixel>
+template <typename TChanges>
+bool
+RunEncoder<TPixel>::ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const
+{
+  {
     const bool firstAbove = m_Threshold.IsAbove(values[0]);
-    starts.push_back(0);
     if (!m_Threshold.AnyAbove())
     {
       return firstAbove;
@@ -44,12 +91,6 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
     constexpr bool         marksAbove = SideBitsMarkAbove<TPixel>;
     uint64_t               previous = firstAbove == marksAbove ? 1 : 0; // the bit of the voxel before x
     SizeValueType          x = 0;
-    const auto             addStarts = [&](uint64_t change, SizeValueType base) {
-      for (; change != 0; change &= change - 1)
-      {
-        starts.push_back(static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change))));
-      }
-    };
     for (; x + 64 <= length; x += 64)
     {
       const uint64_t bits = uint64_t{ sideBits(values + x) } | uint64_t{ sideBits(values + x + 16) } << 16 |
@@ -58,7 +99,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
       previous = bits >> 63;
       if (change != 0)
       {
-        addStarts(change, x);
+        addChanges(change, x);
       }
     }
     for (; x + 16 <= length; x += 16)
@@ -68,7 +109,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
       previous = bits >> 15;
       if (change != 0)
       {
-        addStarts(change, x);
+        addChanges(change, x);
       }
     }
     if (x < length)
@@ -78,7 +119,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
         // The last 16 voxels, of which the ones before x are done.
         const SizeValueType last = length - 16;
         const uint64_t      bits = sideBits(values + last);
-        addStarts((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
+        addChanges((bits ^ bits << 1) & 0xFFFFu & ~((uint64_t{ 1 } << (x - last)) - 1), last);
       }
       else
       {
@@ -87,7 +128,7 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
           const uint64_t bit = m_Threshold.IsAbove(values[x]) == marksAbove ? 1 : 0;
           if (bit != previous)
           {
-            addStarts(1, x);
+            addChanges(1, x);
           }
           previous = bit;
         }
@@ -95,27 +136,22 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, std:
     }
     return firstAbove;
   }
-  else
-#endif
-  {
-    return this->EncodeLineBySearch(values, length, starts);
-  }
 }
+#endif
 
 template <typename TPixel>
+template <typename TAppend>
 bool
-RunEncoder<TPixel>::EncodeLineBySearch(const TPixel *                values,
-                                       SizeValueType                 length,
-                                       std::vector<CoordinateType> & starts) const
+RunEncoder<TPixel>::EncodeLineBySearch(const TPixel * values, SizeValueType length, TAppend && append) const
 {
   const bool firstAbove = m_Threshold.IsAbove(values[0]);
   bool       above = firstAbove;
-  starts.push_back(0);
+  append(0);
   for (SizeValueType x = m_Threshold.NextSideChange(values, 1, length, above); x < length;
        x = m_Threshold.NextSideChange(values, x + 1, length, above))
   {
     above = !above;
-    starts.push_back(static_cast<CoordinateType>(x));
+    append(static_cast<CoordinateType>(x));
   }
   return firstAbove;
 }

@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentRunLabeling_h
 
 #include "itkIntTypes.h"
+#include "itkSmallIsoComponentLargeArray.h"
 #include "itkSmallIsoComponentLineNeighbors.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
@@ -52,7 +53,10 @@ namespace SmallIsoComponentDetail
  *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, 9 bytes per component, and 8 bytes per candidate run
- * (LabelComponents(candidateSize)).
+ * (LabelComponents(candidateSize)). The arrays keep their memory from one Initialize() to
+ * the next (the run arrays take huge pages where the system offers them), so that
+ * labelling an image like the last one takes no fresh memory; ReleaseMemory() gives it
+ * back.
  *
  * \ingroup SmallIsoComponent
  */
@@ -96,23 +100,29 @@ public:
   }
 
   /** \name Run encoding
-   * RunEncoder encodes the lines of each slab in order, appending the start of every run
-   * to GetSlabRunStarts(slab) and calling SetLineRuns() once per line; different slabs may
-   * be encoded concurrently. AssembleRuns() then joins the slabs into one run array. */
+   * RunEncoder calls SetLineRuns() once per line with the line's number of runs, then
+   * ReserveRuns(), then writes the starts of each line's runs at GetLineRunStarts(line);
+   * different lines may be done concurrently. AssembleRuns() then links the runs inside
+   * each slab. */
   /** @{ */
-  std::vector<CoordinateType> &
-  GetSlabRunStarts(SizeValueType slab)
-  {
-    return m_SlabRunStarts[slab];
-  }
   void
   SetLineRuns(SizeValueType line, SizeValueType numberOfRuns, bool firstRunIsAbove)
   {
     m_LineRunBegin[line + 1] = numberOfRuns;
     m_LineFirstAbove[line] = firstRunIsAbove;
   }
-  /** Joins the slabs' runs into one run array and links the runs inside each slab, the
-   * slabs shared among the members of \a team. */
+  /** Turns the lines' run counts into the first run of each line and makes room for all
+   * the runs (memory kept from an earlier image of as many runs or more is reused). Throws
+   * if there are 2^32 - 1 runs or more. */
+  void
+  ReserveRuns();
+  /** Where the starts of \a line's runs go (after ReserveRuns()). */
+  CoordinateType *
+  GetLineRunStarts(SizeValueType line)
+  {
+    return m_RunStart.data() + m_LineRunBegin[line];
+  }
+  /** Links the runs inside each slab, the slabs shared among the members of \a team. */
   void
   AssembleRuns(WorkTeam & team);
   /** @} */
@@ -207,7 +217,7 @@ public:
   RunTable
   GetRunTable() const
   {
-    return { m_RunStart.get(), m_RunLabel.get(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0] };
+    return { m_RunStart.data(), m_RunLabel.data(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0] };
   }
 
   /** The image extent given to Initialize() (axis 0 along the lines). */
@@ -228,15 +238,21 @@ public:
     return m_LineNeighbors;
   }
 
-  /** Bytes held now by the run, line and component arrays. */
+  /** Bytes held now by the run, line and component arrays (with what they keep from an
+   * earlier, larger image). */
   SizeValueType
   GetMemoryInBytes() const;
-  /** Most bytes held at once so far (AssembleRuns() briefly holds the runs twice). */
+  /** Most bytes held at once so far. */
   SizeValueType
   GetPeakMemoryInBytes() const
   {
     return std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
   }
+
+  /** Gives back all the memory the arrays hold; Initialize() must come before the next
+   * use. Otherwise the arrays keep their memory from one image to the next. */
+  void
+  ReleaseMemory();
 
 private:
   void
@@ -254,18 +270,17 @@ private:
   std::vector<SizeValueType>             m_SlabBeginLine;
   SmallIsoComponentDetail::LineNeighbors m_LineNeighbors;
 
-  std::vector<std::vector<CoordinateType>> m_SlabRunStarts;
-  SizeValueType                            m_NumberOfRuns{ 0 };
-  /** Arrays of m_NumberOfRuns entries, left uninitialised so that the parallel fill
-   * touches their pages first. */
-  std::unique_ptr<CoordinateType[]> m_RunStart;
-  std::vector<SizeValueType>        m_LineRunBegin;
-  std::vector<uint8_t>              m_LineFirstAbove;
-  std::unique_ptr<RunIndexType[]>   m_RunLabel;
-  std::vector<SizeValueType>        m_ComponentSize;
-  std::vector<uint8_t>              m_ComponentAbove;
-  std::vector<LineRun>              m_CandidateRuns;
-  SizeValueType                     m_PeakMemoryInBytes{ 0 };
+  SizeValueType m_NumberOfRuns{ 0 };
+  /** Arrays of at least m_NumberOfRuns entries, left uninitialised so that the parallel
+   * fill touches their pages first. */
+  LargeArray<CoordinateType> m_RunStart;
+  std::vector<SizeValueType> m_LineRunBegin;
+  std::vector<uint8_t>       m_LineFirstAbove;
+  LargeArray<RunIndexType>   m_RunLabel;
+  std::vector<SizeValueType> m_ComponentSize;
+  std::vector<uint8_t>       m_ComponentAbove;
+  std::vector<LineRun>       m_CandidateRuns;
+  SizeValueType              m_PeakMemoryInBytes{ 0 };
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -57,12 +57,10 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
 
   m_LineNeighbors = LineNeighbors(size, fullyConnected);
 
-  m_SlabRunStarts.assign(slabs, {});
+  // The arrays keep their memory: an image like the last one takes none afresh.
   m_NumberOfRuns = 0;
-  m_RunStart.reset();
   m_LineRunBegin.assign(m_NumberOfLines + 1, 0);
   m_LineFirstAbove.assign(m_NumberOfLines, 0);
-  m_RunLabel.reset();
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_CandidateRuns.clear();
@@ -70,7 +68,13 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
 }
 
 void
-RunLabeling::AssembleRuns(WorkTeam & team)
+RunLabeling::ReleaseMemory()
+{
+  *this = RunLabeling();
+}
+
+void
+RunLabeling::ReserveRuns()
 {
   // SetLineRuns() stored counts one place to the right; make them offsets.
   std::partial_sum(m_LineRunBegin.begin(), m_LineRunBegin.end(), m_LineRunBegin.begin());
@@ -84,15 +88,18 @@ RunLabeling::AssembleRuns(WorkTeam & team)
                                 "(SmallIsoComponentFilter --memory-limit), which labels fewer at a time");
   }
   m_NumberOfRuns = numberOfRuns;
-  m_RunStart.reset(new CoordinateType[numberOfRuns]);
-  m_RunLabel.reset(new RunIndexType[numberOfRuns]);
+  m_RunStart.Reserve(numberOfRuns);
+  m_RunLabel.Reserve(numberOfRuns);
+}
+
+void
+RunLabeling::AssembleRuns(WorkTeam & team)
+{
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
   team.ForEach(this->GetNumberOfSlabs(), [this](SizeValueType slab) {
     const SizeValueType first = m_LineRunBegin[m_SlabBeginLine[slab]];
-    std::copy(m_SlabRunStarts[slab].begin(), m_SlabRunStarts[slab].end(), m_RunStart.get() + first);
-    std::vector<CoordinateType>().swap(m_SlabRunStarts[slab]);
     const SizeValueType last = m_LineRunBegin[m_SlabBeginLine[slab + 1]];
-    std::iota(m_RunLabel.get() + first, m_RunLabel.get() + last, static_cast<RunIndexType>(first));
+    std::iota(m_RunLabel.data() + first, m_RunLabel.data() + last, static_cast<RunIndexType>(first));
     // The slab's runs are in cache now: link them (only runs of this slab are touched).
     this->LinkInsideSlab(slab);
   });
@@ -104,7 +111,7 @@ RunLabeling::Union(RunIndexType a, RunIndexType b)
   // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
   // the one with the larger parent and re-pointing it to the smaller parent on the way.
   // Parents only ever decrease, so every parent stays at or below its run.
-  RunIndexType * parent = m_RunLabel.get();
+  RunIndexType * parent = m_RunLabel.data();
   while (parent[a] != parent[b])
   {
     if (parent[a] > parent[b])
@@ -154,7 +161,7 @@ RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB)
   // pair changes side exactly when one of its runs advances. With full connectivity runs
   // also touch diagonally where both end at the same x: then the run after each one meets
   // the other, and those pairs are on the same side exactly when the pair itself is not.
-  const CoordinateType * const start = m_RunStart.get();
+  const CoordinateType * const start = m_RunStart.data();
   const auto                   length = static_cast<CoordinateType>(m_Size[0]);
   CoordinateType               endA = a < aLast ? start[a + 1] : length;
   CoordinateType               endB = b < bLast ? start[b + 1] : length;
@@ -251,8 +258,8 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
   constexpr SizeValueType      BufferSize = 256;
   LineRun                      buffer[BufferSize];
   SizeValueType                buffered = 0;
-  RunIndexType * const         label = m_RunLabel.get();
-  const CoordinateType * const start = m_RunStart.get();
+  RunIndexType * const         label = m_RunLabel.data();
+  const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
@@ -299,7 +306,7 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -
   std::vector<LineRun> runs;
   for (const LineRun & candidate : m_CandidateRuns)
   {
-    if (selected[m_RunLabel[candidate.Run]])
+    if (selected[m_RunLabel.data()[candidate.Run]])
     {
       runs.push_back(candidate);
     }
@@ -310,15 +317,10 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -
 SizeValueType
 RunLabeling::GetMemoryInBytes() const
 {
-  SizeValueType bytes = m_NumberOfRuns * (sizeof(CoordinateType) + sizeof(RunIndexType)) +
-                        m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
-                        m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
-                        m_CandidateRuns.capacity() * sizeof(LineRun);
-  for (const auto & starts : m_SlabRunStarts)
-  {
-    bytes += starts.capacity() * sizeof(CoordinateType);
-  }
-  return bytes;
+  return m_RunStart.capacity() * sizeof(CoordinateType) + m_RunLabel.capacity() * sizeof(RunIndexType) +
+         m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
+         m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
+         m_CandidateRuns.capacity() * sizeof(LineRun);
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

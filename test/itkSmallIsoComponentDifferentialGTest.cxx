@@ -151,5 +151,20 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
     EXPECT_EQ(DifferencesFromReference(again.GetPointer(), expectedOther, other.MaximumComponentSize), "")
       << "fullyConnected=" << fullyConnected << " third update, without the mask";
     EXPECT_EQ(again->GetRemovedMask()->GetPixelContainer()->Capacity(), 0u) << "the mask's buffer was kept";
+
+    // The run arrays are kept for the next update, and given back when asked.
+    const itk::SizeValueType kept = again->GetWorkingMemoryInBytes();
+    EXPECT_GE(kept, 8 * (values.size() / 10)) << "the run arrays were not kept after the update";
+    again->ReleaseWorkingMemory();
+    EXPECT_EQ(again->GetWorkingMemoryInBytes(), 0u);
+    again->SetIsoValue(settings.IsoValue);
+    again->Update();
+    EXPECT_EQ(DifferencesFromReference(again.GetPointer(), expected, settings.MaximumComponentSize), "")
+      << "fullyConnected=" << fullyConnected << " after the working memory was given back";
+    const itk::SizeValueType keptAgain = again->GetWorkingMemoryInBytes();
+    EXPECT_GT(keptAgain, 0u);
+    again->Modified();
+    again->Update();
+    EXPECT_EQ(again->GetWorkingMemoryInBytes(), keptAgain) << "a second update of the same image took more memory";
   }
 }

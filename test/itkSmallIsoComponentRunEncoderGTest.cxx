@@ -67,7 +67,8 @@ LineToString(const std::vector<T> & line)
   return out.str();
 }
 
-/** Empty when both paths of the encoder encode \a line as the definition does. The run
+/** Empty when both paths of the encoder encode \a line as the definition does, and
+ * CountRuns() counts its runs. The run
  * starts are appended after what \a starts holds already, as the encoder appends a slab's
  * lines one after another. */
 template <typename T>
@@ -90,6 +91,11 @@ EncodingDifference(const std::vector<T> & line, double isoValue)
           << "; expected " << expected.size() << " runs, first above " << expectedFirstAbove << "; iso " << isoValue
           << "; line" << LineToString(line) << "\n";
     }
+  }
+  if (encoder.CountRuns(line.data(), line.size()) != expected.size())
+  {
+    out << "CountRuns: " << encoder.CountRuns(line.data(), line.size()) << " runs; expected " << expected.size()
+        << "; iso " << isoValue << "; line" << LineToString(line) << "\n";
   }
   return out.str();
 }

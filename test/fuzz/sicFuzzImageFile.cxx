@@ -86,6 +86,7 @@ FilterAndWrite(const std::string & input, const std::string & output, const Filt
   filter->SetSide(choices.Side);
   filter->SetFullyConnected(choices.FullyConnected);
   filter->SetNumberOfWorkUnits(2);
+  filter->GenerateRemovedMaskOn();
   filter->Update();
   sic::WriteImage(filter->GetOutput(), output, output, "output image", nullptr);
   const std::string mask = output + ".mask" + fs::path(output).extension().string();
