@@ -20,6 +20,7 @@
 
 #include "itk_zlib.h"
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <limits>
@@ -100,7 +101,94 @@ ZlibProblem(int status, const char * message)
   return "is corrupt (" + (text.empty() ? "zlib status " + std::to_string(status) : text) + ")";
 }
 
-/** Why \a path is not a complete PNG file, or empty. */
+std::string
+Bytes(std::uint64_t count)
+{
+  return std::to_string(count) + (count == 1 ? " byte" : " bytes");
+}
+
+std::uint32_t
+BigEndian32(const unsigned char * bytes)
+{
+  return (std::uint32_t{ bytes[0] } << 24) | (std::uint32_t{ bytes[1] } << 16) | (std::uint32_t{ bytes[2] } << 8) |
+         std::uint32_t{ bytes[3] };
+}
+
+bool
+IsChunk(const unsigned char * type, const char * name)
+{
+  return std::equal(type, type + 4, name);
+}
+
+/** Why the IHDR chunk \a data of \a length bytes does not describe an image libpng reads, or empty. */
+std::string
+PngHeaderProblem(const unsigned char * data, std::uint64_t length)
+{
+  if (length != 13)
+  {
+    return "is corrupt: its IHDR chunk has " + std::to_string(length) + " bytes instead of 13";
+  }
+  // libpng refuses, by default, images wider or taller than a million pixels.
+  constexpr std::uint32_t largest = 1000000;
+  const std::uint32_t     width = BigEndian32(data);
+  const std::uint32_t     height = BigEndian32(data + 4);
+  if (width == 0 || height == 0 || width > largest || height > largest)
+  {
+    return "is corrupt or too large: its IHDR chunk gives " + std::to_string(width) + " x " + std::to_string(height) +
+           " pixels (1 to " + std::to_string(largest) + " along each axis are read)";
+  }
+  const unsigned int depth = data[8];
+  const unsigned int colour = data[9];
+  bool               valid = false;
+  switch (colour)
+  {
+    case 0: // grey
+      valid = depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16;
+      break;
+    case 3: // palette
+      valid = depth == 1 || depth == 2 || depth == 4 || depth == 8;
+      break;
+    case 2: // RGB
+    case 4: // grey and alpha
+    case 6: // RGB and alpha
+      valid = depth == 8 || depth == 16;
+      break;
+    default:
+      break;
+  }
+  if (!valid)
+  {
+    return "is corrupt: its IHDR chunk gives colour type " + std::to_string(colour) + " with bit depth " +
+           std::to_string(depth) + ", which PNG does not define";
+  }
+  if (data[10] != 0 || data[11] != 0 || data[12] > 1)
+  {
+    return "is corrupt: its IHDR chunk gives compression method " + std::to_string(data[10]) + ", filter method " +
+           std::to_string(data[11]) + " and interlace method " + std::to_string(data[12]) +
+           " (PNG defines 0, 0 and 0 or 1)";
+  }
+  return {};
+}
+
+/** The largest IDAT chunk libpng accepts for the image of the IHDR chunk \a header: the image's filtered bytes
+ * and the most a zlib stream can add to them. */
+std::uint64_t
+LargestIdatChunk(const unsigned char * header)
+{
+  static constexpr unsigned int channels[] = { 1, 0, 3, 1, 2, 0, 4 };
+  const std::uint64_t           width = BigEndian32(header);
+  const std::uint64_t           height = BigEndian32(header + 4);
+  const std::uint64_t rowBytes = width * channels[header[9]] * (header[8] > 8 ? 2 : 1) + 1 + (header[12] != 0 ? 6 : 0);
+  constexpr std::uint64_t largest = std::numeric_limits<std::int32_t>::max();
+  const std::uint64_t     image = height * rowBytes;
+  return std::min(largest, image + 6 + 5 * (image / std::min<std::uint64_t>(rowBytes, 32566) + 1));
+}
+
+/** Why \a path is not a complete PNG file libpng reads without failing, or empty. Every chunk must be complete and
+ * pass its CRC. The chunks before the image data are checked as libpng checks them (ITK's reader of a PNG's header
+ * cannot recover from libpng's errors there): IHDR first and valid, chunk names of four letters, no critical chunk
+ * PNG does not define, a palette of whole entries before the image data, no ancillary chunk larger than libpng
+ * allocates. */
 std::string
 PngProblem(const fs::path & path)
 {
@@ -112,9 +200,13 @@ PngProblem(const fs::path & path)
   {
     return "is not a PNG file (no PNG signature)";
   }
-  std::error_code     error;
-  const std::uint64_t size = fs::file_size(path, error);
-  std::uint64_t       position = start.size();
+  std::error_code               error;
+  const std::uint64_t           size = fs::file_size(path, error);
+  std::uint64_t                 position = start.size();
+  std::array<unsigned char, 13> header{};
+  bool                          haveHeader = false;
+  bool                          havePalette = false;
+  bool                          haveData = false;
   while (true)
   {
     unsigned char head[8];
@@ -122,37 +214,87 @@ PngProblem(const fs::path & path)
     {
       return "is cut short: it ends before its IEND chunk";
     }
-    const std::uint64_t length = (std::uint64_t{ head[0] } << 24) | (head[1] << 16) | (head[2] << 8) | head[3];
+    const unsigned char * type = head + 4;
+    const std::uint64_t   length = BigEndian32(head);
+    if (!std::all_of(type, type + 4, [](unsigned char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }))
+    {
+      return "is corrupt: it holds a chunk whose name is not four letters";
+    }
+    const bool isData = IsChunk(type, "IDAT");
+    // libpng's limits: 2^31 - 1 bytes for any chunk, the image's size for the image data, 8,000,000 bytes for
+    // the chunks it keeps in memory.
+    if (length > std::numeric_limits<std::int32_t>::max() ||
+        (haveHeader && isData && length > LargestIdatChunk(header.data())) ||
+        (!isData && !IsChunk(type, "IEND") && length > 8000000))
+    {
+      return "is corrupt or unreadable: its " + std::string(type, type + 4) + " chunk claims " + Bytes(length) +
+             ", more than PNG readers accept";
+    }
     if (length > size - std::min(size, position + 12))
     {
       return "is cut short: a chunk goes beyond the end of the file";
     }
-    chunk.assign(head + 4, head + 8);
+    chunk.assign(type, type + 4);
     chunk.resize(4 + length + 4);
     if (!file.read(reinterpret_cast<char *>(chunk.data() + 4), static_cast<std::streamsize>(length + 4)))
     {
       return "is cut short: a chunk goes beyond the end of the file";
     }
-    const unsigned char * stored = chunk.data() + 4 + length;
-    const std::uint32_t   expected =
-      (std::uint32_t{ stored[0] } << 24) | (stored[1] << 16) | (stored[2] << 8) | stored[3];
-    if (crc32(crc32(0L, Z_NULL, 0), chunk.data(), static_cast<uInt>(4 + length)) != expected)
+    if (crc32(crc32(0L, Z_NULL, 0), chunk.data(), static_cast<uInt>(4 + length)) !=
+        BigEndian32(chunk.data() + 4 + length))
     {
       return "is corrupt: a chunk fails its CRC";
     }
     position += 12 + length;
-    if (chunk[0] == 'I' && chunk[1] == 'E' && chunk[2] == 'N' && chunk[3] == 'D')
+    const unsigned char * data = chunk.data() + 4;
+    const bool            critical = type[0] >= 'A' && type[0] <= 'Z';
+    if (IsChunk(type, "IHDR"))
     {
-      return {};
+      if (haveHeader)
+      {
+        return "is corrupt: it holds two IHDR chunks";
+      }
+      const std::string problem = PngHeaderProblem(data, length);
+      if (!problem.empty())
+      {
+        return problem;
+      }
+      std::copy(data, data + 13, header.begin());
+      haveHeader = true;
+      continue;
+    }
+    if (!haveHeader)
+    {
+      return "is corrupt: its first chunk is " + std::string(type, type + 4) + " instead of IHDR";
+    }
+    if (IsChunk(type, "PLTE"))
+    {
+      if (havePalette || haveData || length == 0 || length % 3 != 0 || length > 3 * 256)
+      {
+        return "is corrupt: its PLTE chunk (the palette) is repeated, misplaced or not 1 to 256 whole entries";
+      }
+      havePalette = true;
+    }
+    else if (isData)
+    {
+      if (!haveData && header[9] == 3 && !havePalette)
+      {
+        return "is corrupt: its image data comes before the palette (PLTE) it needs";
+      }
+      haveData = true;
+    }
+    else if (IsChunk(type, "IEND"))
+    {
+      return haveData ? std::string() : "is corrupt: it ends (IEND) before any image data (IDAT)";
+    }
+    else if (critical && !haveData)
+    {
+      return "is corrupt: it holds the chunk " + std::string(type, type + 4) +
+             ", which a PNG reader must understand and PNG does not define";
     }
   }
 }
 
-std::string
-Bytes(std::uint64_t count)
-{
-  return std::to_string(count) + (count == 1 ? " byte" : " bytes");
-}
 } // namespace
 
 std::uint64_t

@@ -711,12 +711,21 @@ ImageFileFormatOf(const fs::path & path)
   return ImageFileFormat::Other;
 }
 
+bool
+StartsWithPngSignature(const fs::path & path)
+{
+  static constexpr char signature[] = { '\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n' };
+  char                  start[sizeof(signature)] = {};
+  std::ifstream         file(path, std::ios::binary);
+  return file.read(start, sizeof(start)) && std::equal(start, start + sizeof(start), signature);
+}
+
 ImageFileParts
 FindImageFileParts(const fs::path & path, std::string & problem)
 {
   problem.clear();
   ImageFileParts parts;
-  parts.Format = ImageFileFormatOf(path);
+  parts.Format = StartsWithPngSignature(path) ? ImageFileFormat::Png : ImageFileFormatOf(path);
   parts.Files = { path };
   switch (parts.Format)
   {

@@ -134,7 +134,7 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   catch (const itk::ExceptionObject & exception)
   {
-    throw ToolError("cannot read " + what + " " + quoted + ": " + OneLine(exception.GetDescription()));
+    throw ToolError("cannot read " + what + " " + quoted + ": " + ItkErrorText(exception.GetDescription()));
   }
 
   ScalarImageInfo info;

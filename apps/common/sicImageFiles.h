@@ -94,7 +94,7 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   }
   catch (const itk::ExceptionObject & error)
   {
-    throw ToolError("cannot read " + what + " '" + path + "': " + OneLine(error.GetDescription()));
+    throw ToolError("cannot read " + what + " '" + path + "': " + ItkErrorText(error.GetDescription()));
   }
   messages.Replay();
   typename TImage::Pointer image = reader->GetOutput();
@@ -140,7 +140,7 @@ WriteImage(const TImage *      image,
   {
     // The message names the file the user asked for, not where it was being written.
     throw ToolError("cannot write " + what + " '" + finalPath +
-                    "': " + OneLine(ShowFinalPaths(error.GetDescription(), path, finalPath)));
+                    "': " + ItkErrorText(ShowFinalPaths(error.GetDescription(), path, finalPath)));
   }
   if (CheckWrittenImageFile(path, finalPath, what))
   {

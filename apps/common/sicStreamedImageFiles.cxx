@@ -263,7 +263,7 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   }
   catch (const itk::ExceptionObject & exception)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": " + OneLine(exception.GetDescription()));
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": " + ItkErrorText(exception.GetDescription()));
   }
   m_Geometry.Dimension = io->GetNumberOfDimensions();
   m_Geometry.ComponentType = io->GetComponentType();

@@ -57,6 +57,26 @@ OneLine(const std::string & text)
   }
   return line;
 }
+/** The description of an ITK exception on one line, without the "ITK ERROR: Class(0x...): " prefixes ITK's
+ * macros put in front (an object's address means nothing to the user). */
+inline std::string
+ItkErrorText(const std::string & description)
+{
+  std::string       text = OneLine(description);
+  const std::string prefix = "ITK ERROR: ";
+  for (size_t at = text.find(prefix); at != std::string::npos; at = text.find(prefix, at))
+  {
+    size_t       end = at + prefix.size();
+    const size_t open = text.find("(0x", end);
+    const size_t close = open == std::string::npos ? open : text.find("): ", open);
+    if (close != std::string::npos && text.find(' ', end) > open)
+    {
+      end = close + 3;
+    }
+    text.erase(at, end - at);
+  }
+  return text;
+}
 } // namespace sic
 
 #endif

@@ -60,7 +60,7 @@ ToolMain(const ToolDescription &                               tool,
   }
   catch (const itk::ExceptionObject & error)
   {
-    std::cerr << tool.Name << ": " << OneLine(error.GetDescription()) << std::endl;
+    std::cerr << tool.Name << ": " << ItkErrorText(error.GetDescription()) << std::endl;
     return ExitFailure;
   }
   catch (const std::bad_alloc &)
