@@ -18,6 +18,7 @@
 #ifndef itkSmallIsoComponentRepairMean_h
 #define itkSmallIsoComponentRepairMean_h
 
+#include "itkIntTypes.h"
 #include "itkMath.h"
 #include <cmath>
 #include <limits>
@@ -113,6 +114,53 @@ private:
   double       m_ScaledSum{ 0.0 };
   unsigned int m_Count{ 0 };
 };
+
+/** Adds to \a mean the value of the first voxel met along one direction that is not on the
+ * side being removed. \a steps voxels lie that way before the image ends; sameSideAt(k,
+ * value) sets \a value to the k-th of them (1 <= k <= steps) and tells whether it is on
+ * the removed side. A walk that leaves the image adds nothing. */
+template <typename TPixel, typename TSameSideAt>
+inline void
+AddFirstOtherSide(SizeValueType steps, TSameSideAt && sameSideAt, RepairMean & mean)
+{
+  for (SizeValueType k = 1; k <= steps; ++k)
+  {
+    TPixel value;
+    if (!sameSideAt(k, value))
+    {
+      mean.Add(value);
+      return;
+    }
+  }
+}
+
+/** The walks of the removed voxels [start, end) of one line of \a length voxels, the repair
+ * rule of both SmallIsoComponentImageFilter and its streaming form: calls emit(x, mean)
+ * for each voxel x with the mean of the first values on the other side met along each of
+ * the 2N axis directions. Along the line every voxel of the run meets the same two values,
+ * found once. lineSameSide(x, value) classifies voxel x of the line as AddFirstOtherSide's
+ * sameSideAt does; walkOtherAxes(x, mean) adds the values met along the other axes. */
+template <typename TPixel, typename TLineSameSide, typename TWalkOtherAxes, typename TEmit>
+inline void
+RepairLineRun(SizeValueType     start,
+              SizeValueType     end,
+              SizeValueType     length,
+              TLineSameSide &&  lineSameSide,
+              TWalkOtherAxes && walkOtherAxes,
+              TEmit &&          emit)
+{
+  RepairMean lineMean;
+  AddFirstOtherSide<TPixel>(
+    start, [&](SizeValueType k, TPixel & value) { return lineSameSide(start - k, value); }, lineMean);
+  AddFirstOtherSide<TPixel>(
+    length - end, [&](SizeValueType k, TPixel & value) { return lineSameSide(end - 1 + k, value); }, lineMean);
+  for (SizeValueType x = start; x < end; ++x)
+  {
+    RepairMean mean = lineMean;
+    walkOtherAxes(x, mean);
+    emit(x, mean);
+  }
+}
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 

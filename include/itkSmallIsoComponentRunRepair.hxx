@@ -118,66 +118,41 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
         coordinates[a] = rest % m_Size[a];
         rest /= m_Size[a];
       }
-      const TPixel *      line = valuesBeforePass + removed.Line * length;
-      const SizeValueType start = m_Table.Start[removed.Run];
-      const SizeValueType end = m_Table.End(removed.Run, removed.Line);
-      // Along axis 0 every voxel of the run meets the same two values.
-      SizeValueType left = start;
-      while (left > 0 && sameSide(line[left - 1]))
-      {
-        --left;
-      }
-      SizeValueType right = end;
-      while (right < length && sameSide(line[right]))
-      {
-        ++right;
-      }
-      RepairMean lineMean;
-      if (left > 0)
-      {
-        lineMean.Add(line[left - 1]);
-      }
-      if (right < length)
-      {
-        lineMean.Add(line[right]);
-      }
-      for (const TPixel * voxel = line + start; voxel < line + end; ++voxel)
-      {
-        RepairMean mean = lineMean;
-        for (unsigned int a = 1; a < VDimension; ++a)
-        {
-          const OffsetValueType step = m_Stride[a];
-          const TPixel *        walk = voxel;
-          for (SizeValueType steps = coordinates[a]; steps > 0; --steps)
+      const TPixel * line = valuesBeforePass + removed.Line * length;
+      RepairLineRun<TPixel>(
+        m_Table.Start[removed.Run],
+        m_Table.End(removed.Run, removed.Line),
+        length,
+        [&](SizeValueType x, TPixel & value) {
+          value = line[x];
+          return sameSide(value);
+        },
+        [&](SizeValueType x, RepairMean & mean) {
+          const TPixel * voxel = line + x;
+          for (unsigned int a = 1; a < VDimension; ++a)
           {
-            walk -= step;
-            if (!sameSide(*walk))
-            {
-              mean.Add(*walk);
-              break;
-            }
+            const OffsetValueType step = m_Stride[a];
+            const auto            along = [&](OffsetValueType direction) {
+              return [&, direction](SizeValueType k, TPixel & value) {
+                value = voxel[direction * static_cast<OffsetValueType>(k) * step];
+                return sameSide(value);
+              };
+            };
+            AddFirstOtherSide<TPixel>(coordinates[a], along(-1), mean);
+            AddFirstOtherSide<TPixel>(m_Size[a] - 1 - coordinates[a], along(1), mean);
           }
-          walk = voxel;
-          for (SizeValueType next = coordinates[a] + 1; next < m_Size[a]; ++next)
+        },
+        [&](SizeValueType, const RepairMean & mean) {
+          if (mean.GetCount() > 0)
           {
-            walk += step;
-            if (!sameSide(*walk))
-            {
-              mean.Add(*walk);
-              break;
-            }
+            chunkValues.push_back(mean.Get<TPixel>());
           }
-        }
-        if (mean.GetCount() > 0)
-        {
-          chunkValues.push_back(mean.Get<TPixel>());
-        }
-        else
-        {
-          chunkValues.push_back(fallback);
-          ++m_Unrepairable[chunk];
-        }
-      }
+          else
+          {
+            chunkValues.push_back(fallback);
+            ++m_Unrepairable[chunk];
+          }
+        });
     });
     if (joinFlipped != nullptr)
     {

@@ -23,6 +23,7 @@
 #include "itkSmallIsoComponentRunSummary.h"
 #include "itkMath.h"
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace itk
@@ -367,49 +368,45 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
   const RunLabeling::RunTable table = slab.Labeling.GetRunTable();
   for (SizeValueType i = slab.CandidateBegin[component]; i < slab.CandidateBegin[component + 1]; ++i)
   {
-    const auto &        run = slab.Candidates[i];
-    const SizeValueType y = run.Line % m_Size[1];
-    const SizeValueType zInSlab = run.Line / m_Size[1];
-    const uint64_t      z = slab.Begin + zInSlab;
-    const SizeValueType end = table.End(run.Run, run.Line);
-    for (SizeValueType x = table.Start[run.Run]; x < end; ++x)
-    {
-      RepairMean                    mean;
-      const std::array<uint64_t, 3> at{ x, y, z };
-      for (unsigned int axis = 0; axis < 3; ++axis)
-      {
-        for (const int step : { -1, 1 })
+    const auto &                  run = slab.Candidates[i];
+    const SizeValueType           y = run.Line % m_Size[1];
+    const SizeValueType           zInSlab = run.Line / m_Size[1];
+    const uint64_t                z = slab.Begin + zInSlab;
+    const std::array<uint64_t, 2> others{ y, z };
+    RepairLineRun<TPixel>(
+      table.Start[run.Run],
+      table.End(run.Run, run.Line),
+      m_Size[0],
+      [&](SizeValueType x, TPixel & value) { return sameSide(x, y, z, value); },
+      [&](SizeValueType x, RepairMean & mean) {
+        for (unsigned int axis = 1; axis < 3; ++axis)
         {
-          std::array<uint64_t, 3> p = at;
-          while (true)
-          {
-            if (step < 0 ? p[axis] == 0 : p[axis] + 1 >= m_Size[axis])
-            {
-              break;
-            }
-            p[axis] += step;
-            TPixel value;
-            if (!sameSide(p[0], p[1], p[2], value))
-            {
-              mean.Add(value);
-              break;
-            }
-          }
+          const uint64_t at = others[axis - 1];
+          const auto     along = [&](int64_t direction) {
+            return [&, direction](SizeValueType k, TPixel & value) {
+              std::array<uint64_t, 3> p{ x, y, z };
+              p[axis] = at + static_cast<uint64_t>(direction * static_cast<int64_t>(k));
+              return sameSide(p[0], p[1], p[2], value);
+            };
+          };
+          AddFirstOtherSide<TPixel>(at, along(-1), mean);
+          AddFirstOtherSide<TPixel>(m_Size[axis] - 1 - at, along(1), mean);
         }
-      }
-      TPixel  repaired = fallback;
-      uint8_t maskValue = abovePass ? 1 : 2;
-      if (mean.GetCount() > 0)
-      {
-        repaired = mean.Get<TPixel>();
-      }
-      else
-      {
-        ++m_FallbackVoxels;
-        maskValue |= abovePass ? 4 : 8;
-      }
-      slab.Repairs[zInSlab].push_back({ static_cast<uint32_t>(y * m_Size[0] + x), maskValue, repaired });
-    }
+      },
+      [&](SizeValueType x, const RepairMean & mean) {
+        TPixel  repaired = fallback;
+        uint8_t maskValue = abovePass ? 1 : 2;
+        if (mean.GetCount() > 0)
+        {
+          repaired = mean.Get<TPixel>();
+        }
+        else
+        {
+          ++m_FallbackVoxels;
+          maskValue |= abovePass ? 4 : 8;
+        }
+        slab.Repairs[zInSlab].push_back({ static_cast<uint32_t>(y * m_Size[0] + x), maskValue, repaired });
+      });
   }
 }
 
