@@ -134,6 +134,22 @@ AddFirstOtherSide(SizeValueType steps, TSameSideAt && sameSideAt, RepairMean & m
   }
 }
 
+/** Adds to \a mean the first values not on the removed side met walking both ways along one
+ * axis from a voxel at coordinate \a at of \a extent along it. sameSideAt(offset, value)
+ * sets \a value to the voxel \a offset steps away along the axis (negative: backwards) and
+ * tells whether it is on the removed side. */
+template <typename TPixel, typename TSameSideAt>
+inline void
+AddFirstOtherSideAlongAxis(SizeValueType at, SizeValueType extent, TSameSideAt && sameSideAt, RepairMean & mean)
+{
+  AddFirstOtherSide<TPixel>(
+    at, [&](SizeValueType k, TPixel & value) { return sameSideAt(-static_cast<OffsetValueType>(k), value); }, mean);
+  AddFirstOtherSide<TPixel>(
+    extent - 1 - at,
+    [&](SizeValueType k, TPixel & value) { return sameSideAt(static_cast<OffsetValueType>(k), value); },
+    mean);
+}
+
 /** The walks of the removed voxels [start, end) of one line of \a length voxels, the repair
  * rule of both SmallIsoComponentImageFilter and its streaming form: calls emit(x, mean)
  * for each voxel x with the mean of the first values on the other side met along each of

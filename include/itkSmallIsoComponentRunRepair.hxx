@@ -132,14 +132,14 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
           for (unsigned int a = 1; a < VDimension; ++a)
           {
             const OffsetValueType step = m_Stride[a];
-            const auto            along = [&](OffsetValueType direction) {
-              return [&, direction](SizeValueType k, TPixel & value) {
-                value = voxel[direction * static_cast<OffsetValueType>(k) * step];
+            AddFirstOtherSideAlongAxis<TPixel>(
+              coordinates[a],
+              m_Size[a],
+              [&](OffsetValueType offset, TPixel & value) {
+                value = voxel[offset * step];
                 return sameSide(value);
-              };
-            };
-            AddFirstOtherSide<TPixel>(coordinates[a], along(-1), mean);
-            AddFirstOtherSide<TPixel>(m_Size[a] - 1 - coordinates[a], along(1), mean);
+              },
+              mean);
           }
         },
         [&](SizeValueType, const RepairMean & mean) {

@@ -382,15 +382,15 @@ StreamingSweep<TPixel>::RepairComponent(Slab & slab, SizeValueType component, bo
         for (unsigned int axis = 1; axis < 3; ++axis)
         {
           const uint64_t at = others[axis - 1];
-          const auto     along = [&](int64_t direction) {
-            return [&, direction](SizeValueType k, TPixel & value) {
+          AddFirstOtherSideAlongAxis<TPixel>(
+            at,
+            m_Size[axis],
+            [&](OffsetValueType offset, TPixel & value) {
               std::array<uint64_t, 3> p{ x, y, z };
-              p[axis] = at + static_cast<uint64_t>(direction * static_cast<int64_t>(k));
+              p[axis] = at + static_cast<uint64_t>(offset);
               return sameSide(p[0], p[1], p[2], value);
-            };
-          };
-          AddFirstOtherSide<TPixel>(at, along(-1), mean);
-          AddFirstOtherSide<TPixel>(m_Size[axis] - 1 - at, along(1), mean);
+            },
+            mean);
         }
       },
       [&](SizeValueType x, const RepairMean & mean) {

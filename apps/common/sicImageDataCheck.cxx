@@ -192,17 +192,17 @@ LargestIdatChunk(const unsigned char * header)
 std::string
 PngProblem(const fs::path & path)
 {
-  std::ifstream              file(path, std::ios::binary);
-  const std::array<char, 8>  signature{ { '\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n' } };
-  std::array<char, 8>        start{};
-  std::vector<unsigned char> chunk;
-  if (!file.read(start.data(), start.size()) || start != signature)
+  if (!StartsWithPngSignature(path))
   {
     return "is not a PNG file (no PNG signature)";
   }
+  constexpr std::uint64_t    signatureBytes = 8;
+  std::ifstream              file(path, std::ios::binary);
+  std::vector<unsigned char> chunk;
+  file.ignore(signatureBytes);
   std::error_code               error;
   const std::uint64_t           size = fs::file_size(path, error);
-  std::uint64_t                 position = start.size();
+  std::uint64_t                 position = signatureBytes;
   std::array<unsigned char, 13> header{};
   bool                          haveHeader = false;
   bool                          havePalette = false;
