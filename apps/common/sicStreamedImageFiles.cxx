@@ -140,6 +140,11 @@ StreamedLayout(const std::string & path, const std::string & what)
   const auto refuse = [&](const std::string & reason) {
     throw ToolError("cannot stream " + what + " " + Quoted(path) + ": " + reason + "; " + StreamableFormats());
   };
+  if (parts.Format != ImageFileFormat::MetaImage && parts.Format != ImageFileFormat::Nrrd)
+  {
+    refuse(parts.Format == ImageFileFormat::Png ? "it is a PNG file, whatever its name says"
+                                                : "it is neither MetaImage nor NRRD");
+  }
   if (parts.TextData)
   {
     refuse("its voxels are stored as text");

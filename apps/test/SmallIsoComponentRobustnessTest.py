@@ -308,6 +308,9 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                     file.write(good)
                 self.check(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "9", "--quiet"))
                 os.remove(self.path("o.nrrd"))
+        # Streaming reads MetaImage and NRRD only: a PNG file under a MetaImage name is refused as PNG.
+        self.assertUsageError(run(FILTER, self.path("good.mha"), self.path("o.mha"), "--isovalue", "9",
+                                  "--memory-limit", "1M", "--quiet"), "good.mha", "cannot stream", "PNG file")
 
     def test_header_promising_more_data_than_its_file_holds(self):
         # 1700 × 1000 × 1000 int16 voxels are 3.4 GB; the data files hold 10 bytes.
