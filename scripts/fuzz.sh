@@ -34,8 +34,10 @@ flags="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefin
 itk_include=$(ls -d /usr/include/ITK-* | sort -V | tail -n 1)
 mkdir -p "$build"
 detection=$build/itk_compiler_detection_clang.h
+# Rewritten only when it changes: every object includes it, so a new copy would rebuild them all.
 sed 's/^\( *# *if\) ITK_COMPILER_IS_GNU$/\1 ITK_COMPILER_IS_GNU || ITK_COMPILER_IS_Clang/' \
-  "$itk_include/itk_compiler_detection.h" >"$detection"
+  "$itk_include/itk_compiler_detection.h" >"$detection.new"
+if cmp -s "$detection.new" "$detection"; then rm "$detection.new"; else mv "$detection.new" "$detection"; fi
 cxx_flags="$flags -fgnuc-version=5.0.0 -I$itk_include -include $detection"
 echo "fuzz: configuring and building $target in $build"
 # No build type: the flags above are the only optimisation flags. No VTK: the targets do not use it.
