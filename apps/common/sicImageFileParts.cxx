@@ -584,6 +584,42 @@ FieldAt(const std::vector<unsigned char> & header, size_t offset, bool swapped)
   return value;
 }
 
+/** The largest magnitude a NIfTI sform number may have: ITK's NIfTI reader decomposes the sform in single
+ * precision, and aborts on a number that is not finite or hangs when the matrix's norm overflows. Squares of
+ * numbers this size, summed over the matrix, stay far below the largest float. */
+constexpr double NiftiSformLimit = 1e18;
+
+/** Why the sform of a NIfTI header at \a bytes cannot be handed to ITK, or "" when it can: ITK uses it only when
+ * the magic says NIfTI and sform_code is positive, and then its 12 numbers must be finite and at most
+ * NiftiSformLimit in magnitude. */
+std::string
+NiftiSformProblem(const std::vector<unsigned char> & bytes, bool nifti2, bool swapped)
+{
+  const size_t magicAt = nifti2 ? 4 : 344;
+  const bool   isNifti = bytes[magicAt] == 'n' && (bytes[magicAt + 1] == 'i' || bytes[magicAt + 1] == '+') &&
+                       bytes[magicAt + 2] >= '1' && bytes[magicAt + 2] <= '9' && bytes[magicAt + 3] == '\0';
+  const std::int64_t sformCode =
+    nifti2 ? FieldAt<std::int32_t>(bytes, 348, swapped) : FieldAt<std::int16_t>(bytes, 254, swapped);
+  if (!isNifti || sformCode <= 0)
+  {
+    return {};
+  }
+  for (size_t i = 0; i < 12; ++i)
+  {
+    const double value =
+      nifti2 ? FieldAt<double>(bytes, 400 + 8 * i, swapped) : FieldAt<float>(bytes, 280 + 4 * i, swapped);
+    if (!(std::abs(value) <= NiftiSformLimit))
+    {
+      std::ostringstream text;
+      text << "its sform (srow_"
+           << "xyz"[i / 4] << "[" << i % 4 << "]) is " << value
+           << ", and ITK's NIfTI reader takes only finite sform numbers of magnitude at most " << NiftiSformLimit;
+      return text.str();
+    }
+  }
+  return {};
+}
+
 /** A NIfTI-1 (or Analyze) or NIfTI-2 header, read through gzip for .nii.gz: the dimensions, the bits per voxel
  * and where the voxels start; .nii files hold their voxels, .hdr files name .img files that do. */
 void
@@ -642,6 +678,12 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
     return;
   }
   const bool nifti2 = headerBytes == 540;
+  problem = NiftiSformProblem(bytes, nifti2, swapped);
+  if (!problem.empty())
+  {
+    parts.UnsafeForItk = true;
+    return;
+  }
   const auto dimension = [&](int i) {
     return nifti2 ? FieldAt<std::int64_t>(bytes, 16 + 8 * i, swapped)
                   : FieldAt<std::int16_t>(bytes, 40 + 2 * i, swapped);

@@ -46,9 +46,10 @@ def write_metaimage(path, sizes, data, compressed=False, data_file="LOCAL"):
             file.write(payload)
 
 
-def write_nifti(path, sizes, data):
+def write_nifti(path, sizes, data, sform=None, magic=b"n+1\0"):
     """A single-file NIfTI-1 image (int16) written by hand: 348-byte header, 4 bytes of extension
-    flags, then the voxels at offset 352."""
+    flags, then the voxels at offset 352. sform: (sform_code, the 12 numbers of srow_x, srow_y,
+    srow_z), with qform_code 1 and the identity quaternion."""
     header = bytearray(348)
     struct.pack_into("<i", header, 0, 348)
     dims = [len(sizes)] + list(sizes) + [1] * (7 - len(sizes))
@@ -57,7 +58,10 @@ def write_nifti(path, sizes, data):
     struct.pack_into("<8f", header, 76, 1, *([1.0] * 7))
     struct.pack_into("<f", header, 108, 352.0)
     struct.pack_into("<f", header, 112, 1.0)  # scl_slope
-    header[344:348] = b"n+1\0"
+    if sform is not None:
+        struct.pack_into("<hh", header, 252, 1, sform[0])
+        struct.pack_into("<12f", header, 280, *sform[1])
+    header[344:348] = magic
     with open(path, "wb") as file:
         file.write(bytes(header) + b"\0" * 4 + data)
 
@@ -378,6 +382,40 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         self.assertUsageError(run(REPORT, self.path("field-400.mha"), "--isovalue", "0.5"), "field name of 400")
         self.assertNotIn("o-255.mha", self.listing())
         self.assertNotIn("o-400.mha", self.listing())
+
+    def test_nifti_sforms_itks_reader_cannot_decompose_are_refused(self):
+        # ITK's NIfTI reader aborts on a sform number that is not finite (the fuzzer found it) and hangs
+        # when the matrix's norm overflows single precision.
+        data = bytes(2 * 4 * 4 * 4)
+        identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0]
+        refused = (
+            ("nan", 1, identity[:10] + [float("nan"), 0], "(srow_z[2]) is nan"),
+            ("inf", 1, [float("-inf")] + identity[1:], "(srow_x[0]) is -inf"),
+            ("huge", 1, [3e38, 3e38, 0, 0, 0, 3e38, 0, 0, 0, 0, 3e38, 0], "(srow_x[0]) is 3e+38"),
+            ("offset", 2, identity[:7] + [-3e38] + identity[8:], "(srow_y[3]) is -3e+38"),
+        )
+        for name, code, srow, words in refused:
+            with self.subTest(sform=name):
+                source = self.path(name + ".nii")
+                write_nifti(source, (4, 4, 4), data, sform=(code, srow))
+                result = run(FILTER, source, self.path("o-" + name + ".nii"), "--isovalue", "0.5", timeout=60)
+                self.assertUsageError(result, words, "at most 1e+18")
+                self.assertUsageError(run(REPORT, source, "--isovalue", "0.5", timeout=60), words)
+        # Read as before: numbers up to the limit, and a sform that ITK ignores (sform_code 0, or no NIfTI magic).
+        accepted = (
+            ("limit", 1, [0.9e18, 0, 0, 0, 0, 0.9e18, 0, 0, 0, 0, 0.9e18, 0.9e18], b"n+1\0"),
+            ("unused", 0, [float("nan")] * 12, b"n+1\0"),
+            ("analyze", 1, [float("nan")] * 12, bytes(4)),
+        )
+        for name, code, srow, magic in accepted:
+            with self.subTest(sform=name):
+                source = self.path(name + ".nii")
+                write_nifti(source, (4, 4, 4), data, sform=(code, srow), magic=magic)
+                result = run(FILTER, source, self.path("o-" + name + ".nrrd"), "--isovalue", "0.5", "--quiet",
+                             timeout=60)
+                self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual([name for name in self.listing() if name.startswith("o-")],
+                         ["o-analyze.nrrd", "o-limit.nrrd", "o-unused.nrrd"])
 
     # 8. FIFOs, long names, --threads, the plot's extension.
 
