@@ -501,7 +501,9 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   const std::string              value = fields["ElementDataFile"];
   const std::vector<std::string> words = Words(value);
   std::vector<fs::path>          files;
-  if (Lowercase(value) == "local")
+  // MetaIO takes these three spellings of LOCAL alone (any other is a data file's name) and any value that
+  // starts with LIST as a list of files.
+  if (value == "LOCAL" || value == "Local" || value == "local")
   {
     if (!ended)
     {
@@ -518,8 +520,9 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     return;
   }
   // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
-  parts.DataFileSeries = value.find('%') != std::string::npos || (!words.empty() && words[0] == "LIST");
-  if (!words.empty() && words[0] == "LIST")
+  const bool listed = value.compare(0, 4, "LIST") == 0;
+  parts.DataFileSeries = value.find('%') != std::string::npos || listed;
+  if (listed)
   {
     while (reader.Next(line))
     {

@@ -383,6 +383,31 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         self.assertNotIn("o-255.mha", self.listing())
         self.assertNotIn("o-400.mha", self.listing())
 
+    def test_metaimage_data_file_named_like_local_is_a_data_file(self):
+        # MetaIO reads its voxels from the header's own file only for LOCAL, Local and local; any other
+        # spelling names a data file, which must then be there and complete (the fuzzer found the
+        # missing one, on which ITK's MetaImage reader leaks).
+        data = bytes(2 * 4 * 4 * 4)
+        for spelling in ("LOCAL", "Local", "local"):
+            with self.subTest(spelling=spelling):
+                source = self.path("attached-%s.mha" % spelling)
+                with open(source, "wb") as file:
+                    file.write(("ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_SHORT\n"
+                                "ElementDataFile = %s\n" % spelling).encode() + data)
+                result = run(FILTER, source, self.path("o-%s.mha" % spelling), "--isovalue", "0.5", "--quiet")
+                self.assertEqual(result.returncode, 0, result.stderr)
+        source = self.path("detached.mha")
+        with open(source, "wb") as file:
+            file.write(b"ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_SHORT\n"
+                       b"ElementDataFile = LOCAl\n" + data)
+        self.assertUsageError(run(FILTER, source, self.path("o.mha"), "--isovalue", "0.5"),
+                              "LOCAl' does not exist")
+        with open(self.path("LOCAl"), "wb") as file:
+            file.write(data[:100])
+        for tool in ((FILTER, source, self.path("o.mha")), (REPORT, source)):
+            self.assertUsageError(run(*tool, "--isovalue", "0.5"), "LOCAl' holds 100 bytes", "describes 128")
+        self.assertNotIn("o.mha", self.listing())
+
     def test_nifti_sforms_itks_reader_cannot_decompose_are_refused(self):
         # ITK's NIfTI reader aborts on a sform number that is not finite (the fuzzer found it) and hangs
         # when the matrix's norm overflows single precision.
