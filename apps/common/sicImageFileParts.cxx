@@ -480,6 +480,17 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     problem = "its header ends before ElementDataFile, its last field";
     return;
   }
+  // MetaIO refuses a header without these with a message that does not say why, and leaks on the way.
+  for (const char * required : { "NDims", "DimSize", "ElementType" })
+  {
+    if (fields.count(required) == 0)
+    {
+      problem = std::string("its header has no ") + required +
+                " field before ElementDataFile; MetaImage headers need NDims, DimSize and ElementType there";
+      parts.UnsafeForItk = true;
+      return;
+    }
+  }
   const std::uint64_t headerEnd = reader.Offset();
   const bool          ended = reader.LineEnded();
 

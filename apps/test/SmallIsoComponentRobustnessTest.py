@@ -408,6 +408,20 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
             self.assertUsageError(run(*tool, "--isovalue", "0.5"), "LOCAl' holds 100 bytes", "describes 128")
         self.assertNotIn("o.mha", self.listing())
 
+    def test_metaimage_headers_without_a_required_field_are_refused(self):
+        # ITK's MetaImage reader refuses them saying the file does not exist, and leaks (the fuzzer found it).
+        fields = {"NDims": "NDims = 3\n", "DimSize": "DimSize = 4 4 4\n", "ElementType": "ElementType = MET_SHORT\n"}
+        for missing in fields:
+            with self.subTest(missing=missing):
+                source = self.path("no-%s.mha" % missing)
+                with open(source, "wb") as file:
+                    present = "".join(text for name, text in fields.items() if name != missing)
+                    file.write(("ObjectType = Image\n" + present + "ElementDataFile = LOCAL\n").encode() + bytes(128))
+                self.assertUsageError(run(FILTER, source, self.path("o.mha"), "--isovalue", "0.5"),
+                                      "has no %s field" % missing)
+                self.assertUsageError(run(REPORT, source, "--isovalue", "0.5"), "has no %s field" % missing)
+        self.assertNotIn("o.mha", self.listing())
+
     def test_nifti_sforms_itks_reader_cannot_decompose_are_refused(self):
         # ITK's NIfTI reader aborts on a sform number that is not finite (the fuzzer found it) and hangs
         # when the matrix's norm overflows single precision.
