@@ -44,7 +44,9 @@ smalliso_install_missing "${smalliso_packages[@]}"
 
 echo "sanitize: configuring and building ($kind) in $build"
 # No build type: -O1 -g keeps the tests fast enough and the reports' stacks readable.
+# Debian's interpreter, as in setup.sh: the Python tests need Debian's packages.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE= -DBUILD_TESTING=ON \
+  -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" \
   -DCMAKE_C_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" -DCMAKE_CXX_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
   >"$build.configure.log" 2>&1 || { cat "$build.configure.log" >&2; exit 1; }

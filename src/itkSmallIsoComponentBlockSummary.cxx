@@ -682,7 +682,10 @@ public:
       this->Fail();
     }
     values.resize(count);
-    std::memcpy(static_cast<void *>(values.data()), m_Data + m_Position, count * sizeof(T));
+    if (count > 0) // an empty vector's data() may be null, which memcpy may not be given
+    {
+      std::memcpy(static_cast<void *>(values.data()), m_Data + m_Position, count * sizeof(T));
+    }
     m_Position += count * sizeof(T);
     return values;
   }
