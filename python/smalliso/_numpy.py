@@ -25,8 +25,9 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         dtype uint8, int8, uint16, int16, uint32, int32, float32 or float64 (``smalliso.pixel_types``).
         A C-ordered array's last axis is ITK's x (shape (z, y, x) is an ITK image of size (x, y, z));
         a Fortran-ordered array is used as it is, its first axis being x. Neither is copied. An array
-        that is neither C- nor Fortran-contiguous (a strided view) is copied into a C-ordered array
-        first, or refused with ``in_place=True``.
+        that is neither C- nor Fortran-contiguous (a strided view), or whose samples are not
+        aligned for its dtype (a view of raw bytes at an odd offset), is copied into a C-ordered
+        array first, or refused with ``in_place=True``.
     isovalue : float
         Voxels ``>= isovalue`` are above it; NaN is an error.
     max_size : int
@@ -51,10 +52,10 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         ``size_histogram`` as a dict size -> number of components), ``modified_voxels``,
         ``unrepairable_voxels``, ``effective_max_size`` (K) and ``peak_extra_bytes``.
     out : ndarray, optional
-        Where to put the result: same shape and dtype, C- or Fortran-contiguous. The input is copied
+        Where to put the result: same shape and dtype, C- or Fortran-contiguous, aligned. The input is copied
         into it and filtered there.
     in_place : bool
-        Filter ``array`` itself (a writable C- or Fortran-contiguous ndarray): no output buffer.
+        Filter ``array`` itself (a writable, aligned, C- or Fortran-contiguous ndarray): no output buffer.
     threads : int, optional
         Threads (ITK work units) for the filter; default ITK's default (the number of cores).
         The result does not depend on it. The GIL is released while the filter runs.
@@ -91,8 +92,10 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
             raise ValueError("out overlaps the input array; give out=array (or in_place=True) to filter the "
                              "array in place, or an out of its own")
         np.copyto(out, array)
-    if target is None and not (array.flags.c_contiguous or array.flags.f_contiguous):
-        array = np.ascontiguousarray(array)
+    if target is None and not (array.flags.aligned and (array.flags.c_contiguous or array.flags.f_contiguous)):
+        # The filter reads whole samples: a strided view, or samples at addresses not aligned for
+        # the dtype (a view of raw bytes, a buffer unpickled from another process), get a copy.
+        array = np.require(array, requirements=("C", "A"))
     output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
                                        side, bool(fully_connected), spacing, target is not None,
                                        bool(return_mask), work_units)
@@ -113,4 +116,7 @@ def _writable_target(array, name, remedy):
     if not (array.flags.c_contiguous or array.flags.f_contiguous):
         raise ValueError(f"{name} is neither C- nor Fortran-contiguous (a strided view) and the result is written "
                          f"into it; filter a contiguous copy (numpy.ascontiguousarray) instead, or {remedy}")
+    if not array.flags.aligned:
+        raise ValueError(f"{name}'s samples are not aligned for its dtype {array.dtype} and the result is written "
+                         f"into it; filter an aligned copy (numpy.require(a, requirements='A')) instead, or {remedy}")
     return array

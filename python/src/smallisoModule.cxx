@@ -34,11 +34,19 @@ namespace
 namespace py = pybind11;
 using namespace smalliso;
 
-/** Calls function(TPixel{}) for the pixel type of \a array's dtype. */
+/** Calls function(TPixel{}) for the pixel type of \a array's dtype. The filter reads the array's
+ * samples as TPixel, so they must lie at addresses aligned for it: NumPy allows arrays that are not
+ * (views of raw bytes at an odd offset, some buffers unpickled from elsewhere), and the Python
+ * layer copies those before they come here. */
 template <typename TFunction>
 auto
 ForPixelTypeOf(const py::array & array, TFunction && function) -> decltype(function(uint8_t{}))
 {
+  if ((array.flags() & py::detail::npy_api::NPY_ARRAY_ALIGNED_) == 0)
+  {
+    throw py::value_error("the array's samples are not aligned for its dtype " + std::string(py::str(array.dtype())) +
+                          "; expected an aligned array (numpy.require(array, requirements='A') makes an aligned copy)");
+  }
 #define SMALLISO_DISPATCH(T)                 \
   if (py::isinstance<py::array_t<T>>(array)) \
   {                                          \

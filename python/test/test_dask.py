@@ -9,7 +9,7 @@ import zarr
 
 import smalliso
 import smalliso.dask
-from volumes import DTYPES, random_volume, same_bits, without_memory
+from volumes import DTYPES, random_volume, same_bits, unaligned_copy, without_memory
 
 
 def random_chunks(rng, shape):
@@ -85,6 +85,20 @@ def test_bubbles_in_specks_across_chunk_faces():
         for chunks in ((3, 4, 4), (4, 5, 5), (1, 9, 10), (8, 1, 5)):
             check_case(volume, 250, max_size, "both", False, chunks)
             check_case(volume, 250, max_size, "below", True, chunks)
+
+
+def test_chunks_whose_samples_are_not_aligned_for_their_dtype():
+    """Chunks can arrive at any address (a view of raw bytes, a message from another worker):
+    the tasks hand the core aligned copies and the result is the in-memory one."""
+    rng = np.random.default_rng(1001)
+    for dtype in ("float32", "int16", "float64"):
+        volume, isovalue = random_volume(rng, dtype, (7, 9, 8))
+        expected, expected_stats = smalliso.remove_small_components(volume, isovalue, 3, return_stats=True)
+        source = da.from_array(unaligned_copy(volume), chunks=(3, 4, 5))
+        output, stats = smalliso.dask.remove_small_components(source, isovalue, 3, return_stats=True)
+        output, stats = dask.compute(output, stats, scheduler="synchronous")
+        assert same_bits(output, expected), dtype
+        assert stats == without_memory(expected_stats), dtype
 
 
 def test_the_local_schedulers():

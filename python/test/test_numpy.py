@@ -12,7 +12,7 @@ import pytest
 
 import smalliso
 from metaimage import read as read_mha, write as write_mha
-from volumes import DTYPES, random_volume, same_bits, without_memory
+from volumes import DTYPES, random_volume, same_bits, unaligned_copy, without_memory
 
 TOOL = os.environ.get("SMALLISO_FILTER_TOOL")
 needs_tool = pytest.mark.skipif(not TOOL, reason="SmallIsoComponentFilter was not built (SMALLISO_FILTER_TOOL unset)")
@@ -126,6 +126,25 @@ def test_a_strided_view_is_copied_and_refused_in_place():
                      smalliso.remove_small_components(view.copy(), isovalue, 4))
     with pytest.raises(ValueError, match="neither C- nor Fortran-contiguous.*ascontiguousarray"):
         smalliso.remove_small_components(view, isovalue, 4, in_place=True)
+
+
+@pytest.mark.parametrize("dtype", [dtype for dtype in DTYPES if np.dtype(dtype).alignment > 1])
+def test_samples_not_aligned_for_their_dtype_are_copied_and_refused_in_place(dtype):
+    rng = np.random.default_rng(5)
+    volume, isovalue = random_volume(rng, dtype, (9, 8, 7))
+    unaligned = unaligned_copy(volume)
+    output, stats = smalliso.remove_small_components(unaligned, isovalue, 4, return_stats=True)
+    assert output.flags.aligned
+    assert same_bits(output, smalliso.remove_small_components(volume, isovalue, 4))
+    assert stats["modified_voxels"] > 0
+    assert same_bits(unaligned, volume)
+    with pytest.raises(ValueError, match="not aligned for its dtype.*numpy.require"):
+        smalliso.remove_small_components(unaligned, isovalue, 4, in_place=True)
+    with pytest.raises(ValueError, match="not aligned for its dtype.*numpy.require"):
+        smalliso.remove_small_components(volume, isovalue, 4, out=unaligned_copy(volume))
+    # The compiled core refuses such an array itself rather than reading it sample by sample.
+    with pytest.raises(ValueError, match="not aligned for its dtype"):
+        smalliso._core.filter(unaligned, isovalue, 4, None, "both", False, [1.0, 1.0, 1.0], False, False, 0)
 
 
 def test_the_gil_is_released_while_the_filter_runs():

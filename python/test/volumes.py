@@ -60,3 +60,13 @@ def same_bits(a, b):
 def without_memory(stats):
     """The statistics without peak_extra_bytes, which only the in-memory filter reports."""
     return {key: value for key, value in stats.items() if key != "peak_extra_bytes"}
+
+
+def unaligned_copy(array):
+    """A copy of ``array`` whose samples lie one byte off the alignment its dtype asks for, as in
+    a view of raw bytes or a buffer unpickled from another process."""
+    raw = np.zeros(array.nbytes + 1, np.uint8)
+    copy = raw[1:].view(array.dtype).reshape(array.shape)
+    copy[...] = array
+    assert not copy.flags.aligned
+    return copy

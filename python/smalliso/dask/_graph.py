@@ -68,12 +68,18 @@ class _ChunkPlan:
         self.parameters = parameters
 
 
+def _readable(array):
+    """``array`` C-contiguous with its samples aligned for its dtype, copied if it is not (a chunk
+    that arrived from another worker can lie at any address in the message's buffer)."""
+    return np.require(array, requirements=("C", "A"))
+
+
 def _filter_box(plan, box):
-    return _core.filter_chunk(np.ascontiguousarray(box), plan.crop_begin, plan.crop_end, *plan.parameters.core)
+    return _core.filter_chunk(_readable(box), plan.crop_begin, plan.crop_end, *plan.parameters.core)
 
 
 def _summarize_chunk(plan, chunk):
-    return _core.summarize_chunk(np.ascontiguousarray(chunk), plan.image_shape, plan.begin, *plan.parameters.core)
+    return _core.summarize_chunk(_readable(chunk), plan.image_shape, plan.begin, *plan.parameters.core)
 
 
 def _assemble_box(plan, pieces):
