@@ -16,13 +16,18 @@ kind=${1:-}
 shift || true
 case "$kind" in
   asan)
-    flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined"
+    # UBSan's checks stay recoverable so that its suppressions apply (a check built not to
+    # recover stops the process even when its report is suppressed); halt_on_error below still
+    # stops at the first report that is not.
+    flags="-fsanitize=address,undefined"
+    sanitizer=address
     # Every test; the longest ones at -O1 under ASan take a few minutes.
     selection=(--timeout 1800)
     targets=""
     ;;
   tsan)
     flags="-fsanitize=thread"
+    sanitizer=thread
     # The tests that run work units in parallel: the differential tests (1, 2 and 7 work
     # units per volume), the invariants (the output for several numbers of work units) and the
     # work team.
@@ -46,7 +51,7 @@ echo "sanitize: configuring and building ($kind) in $build"
 # No build type: -O1 -g keeps the tests fast enough and the reports' stacks readable.
 # Debian's interpreter, as in setup.sh: the Python tests need Debian's packages.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE= -DBUILD_TESTING=ON \
-  -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" \
+  -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" -DSmallIsoComponent_SANITIZER=$sanitizer \
   -DCMAKE_C_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" -DCMAKE_CXX_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
   >"$build.configure.log" 2>&1 || { cat "$build.configure.log" >&2; exit 1; }

@@ -5,7 +5,7 @@ may use): the same voxels, mask and statistics as the in-memory run, in every fo
 within the memory asked for; and its errors.
 
 Environment: SIC_FILTER, SIC_PHANTOM, SIC_PROBE (see SmallIsoComponentCLITest.py), SIC_HAVE_VTK,
-SIC_SCRATCH.
+SIC_SCRATCH, SIC_SANITIZER (the sanitizer the tools were built with, if any).
 """
 
 import json
@@ -19,6 +19,10 @@ FILTER = os.environ.get("SIC_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 HAVE_VTK = os.environ.get("SIC_HAVE_VTK", "0") == "1"
+# Under AddressSanitizer the process's resident memory is mostly the sanitizer's (its shadow
+# memory and the quarantine that keeps freed blocks): the tests of how much memory the tool
+# holds only mean something for a build without it.
+MEMORY_UNMEASURABLE = os.environ.get("SIC_SANITIZER", "") == "address"
 ISOVALUE = "150"
 # The statistics that describe the image (not how the run went).
 IMAGE_STATISTICS = ("above", "below", "modified_voxels", "unrepairable_voxels")
@@ -70,7 +74,14 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                     again = self.filtered(output, self.path("again" + extension), "--memory-limit", "512M")
                     self.assertEqual(again["statistics"]["modified_voxels"], 0)
 
+    def skip_unless_memory_is_measurable(self):
+        if MEMORY_UNMEASURABLE:
+            print("skipped: built with AddressSanitizer, whose shadow memory and quarantine make up most of "
+                  "the resident memory this test measures")
+            raise unittest.SkipTest("AddressSanitizer build")
+
     def test_a_small_limit_streams_in_thin_slabs(self):
+        self.skip_unless_memory_is_measurable()
         source = self.phantom("256", "big.mha", "--no-compression")  # 32 MiB of int16 voxels
         reference = self.filtered(source, self.path("memory.mha"), "--no-compression")
         limit = 100 << 20
@@ -152,6 +163,7 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
     def test_a_volume_larger_than_a_memory_control_group_streams_by_itself(self):
         """The tool in a control group whose memory limit is smaller than the volume: without
         --memory-limit it must see the limit, stream, stay within it and give the in-memory result."""
+        self.skip_unless_memory_is_measurable()
         group = None
         for root, limit_file, procs in (("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "cgroup.procs"),
                                         ("/sys/fs/cgroup", "memory.max", "cgroup.procs")):
