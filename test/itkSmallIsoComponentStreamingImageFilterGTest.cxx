@@ -23,6 +23,7 @@
 
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
+#include "itkMetaImageIOFactory.h"
 #include "itkStreamingImageFilter.h"
 
 #include "gtest/gtest.h"
@@ -34,6 +35,24 @@ namespace
 {
 using namespace itk;
 using namespace itk::SmallIsoComponentTest;
+
+/** Registers ITK's MetaImage IO unless it is registered already. A build against an installed ITK
+ * registers ITK's IO factories for every test (UseITK); a build as an ITK module, external or in
+ * ITK's source tree, registers none for a GoogleTest driver. */
+bool
+RegisterMetaImageIO()
+{
+  for (const auto & factory : ObjectFactoryBase::GetRegisteredFactories())
+  {
+    if (dynamic_cast<MetaImageIOFactory *>(factory) != nullptr)
+    {
+      return false;
+    }
+  }
+  MetaImageIOFactory::RegisterOneFactory();
+  return true;
+}
+const bool MetaImageIORegisteredHere = RegisterMetaImageIO();
 
 /** A file of this test's own (ctest runs the tests of this file at the same time). */
 std::string
