@@ -31,7 +31,8 @@ endif()
 list(REMOVE_ITEM _sic_itk_modules ITKGoogleTest)
 list(REMOVE_DUPLICATES _sic_itk_modules)
 find_package(ITK REQUIRED COMPONENTS ${_sic_itk_modules})
-include(${ITK_USE_FILE})
+include(${CMAKE_CURRENT_LIST_DIR}/SmallIsoComponentUseITK.cmake)
+smalliso_use_itk()
 # ITK's headers are not ours to keep warning-free.
 include_directories(SYSTEM ${ITK_INCLUDE_DIRS})
 
@@ -52,12 +53,12 @@ function(itk_module_add_library _name)
   target_include_directories(${_name} PUBLIC
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
     $<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/include>)
-  target_link_libraries(${_name} PUBLIC ${ITK_LIBRARIES})
+  target_link_libraries(${_name} PUBLIC ${SmallIsoComponent_ITK_LINK_LIBRARIES})
   target_compile_options(${_name} PRIVATE ${SmallIsoComponent_WARNING_FLAGS})
 endfunction()
 
 macro(itk_module_test)
-  set(${itk-module}-Test_LIBRARIES ${itk-module} ${ITK_LIBRARIES})
+  set(${itk-module}-Test_LIBRARIES ${itk-module} ${SmallIsoComponent_ITK_LINK_LIBRARIES})
 endmacro()
 
 # A test driver in ITK's style: one executable that runs each test function by name,
