@@ -387,13 +387,18 @@ check_external() {
 }
 
 # The in-tree check: ITK's own source tree with this module as a remote module. The
-# module's SmallIsoComponent.remote.cmake is copied into Modules/Remote/ with its git
-# address pointed at this repository (the commit checked out now, which must be committed),
-# and ITK is configured with Module_SmallIsoComponent=ON and BUILD_TESTING=ON in a second
-# build tree. ITK clones the module, builds it with the modules it needs (from ccache) and
-# its tests, and CTest runs the module's tests (label SmallIsoComponent).
+# module's SmallIsoComponent.remote.cmake is copied into Modules/Remote/, which declares the
+# module to ITK's configure (Module_SmallIsoComponent), and the commit checked out now (it
+# must be committed) is cloned from this repository into Modules/Remote/SmallIsoComponent,
+# where ITK's own clone would put it: ITK_FORBID_DOWNLOADS=ON, which keeps every build of
+# this script off the network, also makes itk_fetch_module skip its clone, so ITK finds the
+# module the way it finds one fetched before. ITK is configured with
+# Module_SmallIsoComponent=ON and BUILD_TESTING=ON in a second build tree, builds the module
+# with the modules it needs (from ccache) and its tests, and CTest runs the module's tests
+# (label SmallIsoComponent).
 check_in_tree() {
-  local start=${SECONDS} status=0 head remote=${itk_source}/Modules/Remote/SmallIsoComponent.remote.cmake
+  local start=${SECONDS} status=0 head remote_dir=${itk_source}/Modules/Remote
+  local remote=${remote_dir}/SmallIsoComponent.remote.cmake clone=${remote_dir}/SmallIsoComponent
   log "${version} check in-tree: the module inside ITK's source tree (Modules/Remote)"
   head=$(git -C "${repo_dir}" rev-parse HEAD)
   if [[ -n $(git -C "${repo_dir}" status --porcelain --untracked-files=no) ]]; then
@@ -401,21 +406,24 @@ check_in_tree() {
   fi
   sed -e "s|GIT_REPOSITORY .*|GIT_REPOSITORY ${repo_dir}|" -e "s|GIT_TAG .*|GIT_TAG ${head}|" \
     "${repo_dir}/SmallIsoComponent.remote.cmake" >"${remote}"
-  # ITK updates a fetched remote module to GIT_TAG at configure time; a fresh clone keeps
-  # the check independent of earlier ones.
-  rm -rf "${itk_source}/Modules/Remote/SmallIsoComponent"
+  # A fresh clone keeps the check independent of earlier ones.
+  rm -rf "${clone}"
   {
-    local options
-    mapfile -t options < <(common_itk_options)
-    # ITK keeps the GIT_TAG of the first configure in its cache unless told the new one.
-    nice cmake -S "${itk_source}" -B "${intree_build}" "${options[@]}" -DBUILD_TESTING=ON \
-      -DModule_SmallIsoComponent_GIT_TAG="${head}" \
-      -DITK_WRAP_PYTHON=OFF -DModule_SmallIsoComponent=ON -DModule_ITKGoogleTest=ON &&
+    git clone --quiet --no-checkout "${repo_dir}" "${clone}" &&
+      git -C "${clone}" checkout --quiet "${head}" &&
+      log "cloned the module at ${head} into Modules/Remote/SmallIsoComponent" &&
+      {
+        local options
+        mapfile -t options < <(common_itk_options)
+        nice cmake -S "${itk_source}" -B "${intree_build}" "${options[@]}" -DBUILD_TESTING=ON \
+          -DITK_WRAP_PYTHON=OFF -DModule_SmallIsoComponent=ON -DModule_ITKGoogleTest=ON
+      } &&
+      grep -q '^Module_SmallIsoComponent:BOOL=ON' "${intree_build}/CMakeCache.txt" &&
       nice cmake --build "${intree_build}" -j "${jobs}" &&
       (cd "${intree_build}" && nice ctest --output-on-failure -j "${jobs}" --timeout 900 -L SmallIsoComponent) &&
       (cd "${intree_build}" && [[ $(ctest -N -L SmallIsoComponent | sed -n 's/^Total Tests: //p') -gt 0 ]])
   } || status=$?
-  rm -rf "${remote}" "${itk_source}/Modules/Remote/SmallIsoComponent"
+  rm -rf "${remote}" "${clone}"
   record_check in-tree "${status}" $((SECONDS - start))
   return "${status}"
 }
