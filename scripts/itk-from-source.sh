@@ -48,13 +48,14 @@ readonly debian_packages=(dpkg-dev build-essential cmake ninja-build git ccache 
 
 # The ITK modules: the module's dependencies and test dependencies (itk-module.cmake), what
 # its command-line tools and benchmark need (SmallIsoComponent_APP_ITK_MODULES in
-# CMakeLists.txt), and NumPy interop for the Python package. ITK enables the modules these
-# depend on by itself. Changing the list reconfigures and incrementally rebuilds ITK.
+# CMakeLists.txt), NumPy interop for the Python package, and ITKIOXML (with ITKExpat), which
+# SlicerExecutionModel's parser needs for the Slicer parser test. ITK enables the modules
+# these depend on by itself. Changing the list reconfigures and incrementally rebuilds ITK.
 readonly itk_modules=(
   ITKCommon ITKTestKernel ITKGoogleTest
   ITKIOImageBase ITKIOMeta ITKIONRRD ITKIONIFTI ITKIOPNG ITKIOTIFF ITKIOVTK ITKIOGIPL ITKIOBMP
   ITKThresholding ITKConnectedComponents
-  ITKBridgeNumPy
+  ITKBridgeNumPy ITKIOXML
 )
 
 log() { printf '[itk-from-source] %s\n' "$*"; }
@@ -368,14 +369,23 @@ record_check() {
 # check_external NAME WRAP: configures, builds and tests the module against the ITK build
 # tree in build-itk-source/VERSION-NAME. ITK's wrapping, read again for the module, does
 # not inherit ITK's choice of system CastXML and SWIG and would download its own: the
-# module is told the same.
+# module is told the same. SlicerExecutionModel, for the Slicer parser test, is found as
+# scripts/setup.sh finds it ($SMALLISO_SLICER_EXECUTION_MODEL, else the archive in the
+# folder of third-party sources beside the repository) and is built against this ITK.
 check_external() {
-  local name=$1 module_wrap=$2 dir=${module_builds}/${version}-$1 start=${SECONDS} status=0
+  local name=$1 module_wrap=$2 dir=${module_builds}/${version}-$1 start=${SECONDS} status=0 sem
   log "${version} check ${name}: the module against the ITK build tree (Python wrapping ${module_wrap})"
+  sem=${SMALLISO_SLICER_EXECUTION_MODEL:-$(ls "${repo_dir}"/../shared/vendor/SlicerExecutionModel-*.tar.gz 2>/dev/null | head -n 1 || true)}
+  if [[ -n ${sem} ]]; then
+    log "the Slicer parser test uses SlicerExecutionModel from ${sem}"
+  else
+    log "no SlicerExecutionModel found (set SMALLISO_SLICER_EXECUTION_MODEL): the Slicer parser test will be skipped"
+  fi
   rm -rf "${dir}"
   {
     nice cmake -S "${repo_dir}" -B "${dir}" -G Ninja -DCMAKE_BUILD_TYPE=Release \
       -DITK_DIR="${itk_build}" -DSmallIsoComponent_WRAP_PYTHON="${module_wrap}" -DBUILD_TESTING=ON \
+      -DSmallIsoComponent_SLICER_EXECUTION_MODEL="${sem}" \
       -DPython3_EXECUTABLE=${python} -DITK_FORBID_DOWNLOADS=ON -DITK_USE_KWSTYLE=OFF \
       -DITK_USE_SYSTEM_CASTXML=ON -DCASTXML_EXECUTABLE=/usr/bin/castxml \
       -DITK_USE_SYSTEM_SWIG=ON -DSWIG_EXECUTABLE=/usr/bin/swig -DITK_USE_PYTHON_LIMITED_API=OFF &&
