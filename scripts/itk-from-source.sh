@@ -404,8 +404,10 @@ check_external() {
 # this script off the network, also makes itk_fetch_module skip its clone, so ITK finds the
 # module the way it finds one fetched before. ITK is configured with
 # Module_SmallIsoComponent=ON and BUILD_TESTING=ON in a second build tree, builds the module
-# with the modules it needs (from ccache) and its tests, and CTest runs the module's tests
-# (label SmallIsoComponent).
+# with the modules it needs (from ccache) and its tests, and CTest runs the module's tests:
+# those named after it, since ITK labels the regression tests (SmallIsoComponent) but not
+# the GoogleTest cases.
+readonly intree_tests='^(itk)?SmallIsoComponent'
 check_in_tree() {
   local start=${SECONDS} status=0 head remote_dir=${itk_source}/Modules/Remote
   local remote=${remote_dir}/SmallIsoComponent.remote.cmake clone=${remote_dir}/SmallIsoComponent
@@ -430,8 +432,8 @@ check_in_tree() {
       } &&
       grep -q '^Module_SmallIsoComponent:BOOL=ON' "${intree_build}/CMakeCache.txt" &&
       nice cmake --build "${intree_build}" -j "${jobs}" &&
-      (cd "${intree_build}" && nice ctest --output-on-failure -j "${jobs}" --timeout 900 -L SmallIsoComponent) &&
-      (cd "${intree_build}" && [[ $(ctest -N -L SmallIsoComponent | sed -n 's/^Total Tests: //p') -gt 0 ]])
+      (cd "${intree_build}" && nice ctest --output-on-failure -j "${jobs}" --timeout 900 -R "${intree_tests}") &&
+      (cd "${intree_build}" && [[ $(ctest -N -R "${intree_tests}" | sed -n 's/^Total Tests: //p') -gt 0 ]])
   } || status=$?
   rm -rf "${remote}" "${clone}"
   record_check in-tree "${status}" $((SECONDS - start))
