@@ -433,8 +433,8 @@ check_in_tree() {
       } &&
       grep -q '^Module_SmallIsoComponent:BOOL=ON' "${intree_build}/CMakeCache.txt" &&
       nice cmake --build "${intree_build}" -j "${jobs}" &&
-      (cd "${intree_build}" && nice ctest --output-on-failure -j "${jobs}" --timeout 900 -R "${intree_tests}") &&
-      (cd "${intree_build}" && [[ $(ctest -N -R "${intree_tests}" | sed -n 's/^Total Tests: //p') -gt 0 ]])
+      (cd "${intree_build}" &&
+        nice ctest --output-on-failure --no-tests=error -j "${jobs}" --timeout 900 -R "${intree_tests}")
   } || status=$?
   rm -rf "${remote}" "${clone}"
   record_check in-tree "${status}" $((SECONDS - start))
