@@ -155,18 +155,42 @@ public:
                const IndexType &      end,
                const ComponentRules & rules);
 
+  /** A face layer as runs of voxels of one node along its rows (a row runs along the lower of
+   * the face's two axes, rows in order along the higher): the runs of row r are
+   * Runs[RowBegin[r]] .. Runs[RowBegin[r + 1] - 1], each from its Column to the next run's (the
+   * last to the end of the row), the first at column 0. The faces of a summary cost what their
+   * runs do, not what their voxels do. */
+  struct FaceRun
+  {
+    uint32_t Column;
+    NodeType Node;
+  };
+  struct FaceLayer
+  {
+    std::vector<SizeValueType> RowBegin; // rows + 1 entries; empty when the face is not held
+    std::vector<FaceRun>       Runs;
+  };
+
   /** \name Building from a labelled box
    * The box's components are numbered 0..n-1 (AddComponent() in order). Each face inside the
    * image gets its layer (SetFaceLayer(): the component of every voxel along the face, the
-   * lower of the two other axes fastest), and for Side Both every pair of an above component of
-   * at most K voxels and a below component it touches is given once or more (AddTouching()). */
+   * lower of the two other axes fastest, or the same as runs), and for Side Both every pair of
+   * an above component of at most K voxels and a below component it touches is given once or
+   * more (AddTouching()). */
   /** @{ */
   NodeType
   AddComponent(bool above, uint64_t size);
   bool
   HasFace(unsigned int axis, bool upper) const;
   void
-  SetFaceLayer(unsigned int axis, bool upper, std::vector<NodeType> layer);
+  SetFaceLayer(unsigned int axis, bool upper, const std::vector<NodeType> & layer);
+  void
+  SetFaceLayer(unsigned int axis, bool upper, FaceLayer layer);
+  /** The width of the rows of the face of \a axis and their number. */
+  SizeValueType
+  FaceRowWidth(unsigned int axis) const;
+  SizeValueType
+  FaceRows(unsigned int axis) const;
   /** Whether AddTouching() is needed for an above component of this size. */
   bool
   NeedsTouching(uint64_t aboveSize) const;
@@ -178,10 +202,12 @@ public:
   Settle(std::vector<Resolution> * resolutions = nullptr);
   /** @} */
 
-  /** Merges \a lower and \a upper, two settled summaries of boxes that share a face (upper
-   * starts where lower ends along one axis and both cover the same range along the others),
-   * into the summary of their union. \a lowerResolutions and \a upperResolutions, if given,
-   * receive the fate of every node of each. */
+  /** Merges \a lower and \a upper, two summaries of boxes that share a face (upper starts
+   * where lower ends along one axis and both cover the same range along the others), into the
+   * summary of their union. Each may be settled or fresh from its box (all its components
+   * given, Settle() not called): the merge decides what Settle() would have, with the same
+   * result. \a lowerResolutions and \a upperResolutions, if given, receive the fate of every
+   * node of each. */
   static BlockSummary
   Merge(const BlockSummary &      lower,
         const BlockSummary &      upper,
@@ -280,8 +306,12 @@ private:
   std::vector<uint64_t> m_Size;
   std::vector<uint8_t>  m_Above;
   std::vector<uint64_t> m_Flipped;
+  /** Whether \a layer is a well-formed layer of the face of \a axis over nodes below \a nodes. */
+  bool
+  IsValidFaceLayer(unsigned int axis, const FaceLayer & layer, SizeValueType nodes) const;
+
   /** Layers of the faces inside the image (empty for the others), indexed by FaceIndex(). */
-  std::array<std::vector<NodeType>, 6> m_Face;
+  std::array<FaceLayer, 6> m_Face;
   /** For Side Both: (above node, below node) pairs, the above node possibly small. */
   std::vector<std::pair<NodeType, NodeType>> m_Touching;
   ComponentTally                             m_Tally;

@@ -217,15 +217,10 @@ StreamingSweep<TPixel>::ProcessSlab()
   }
   s.Repairs.resize(planes);
 
-  // Its summary, settled alone, then merged with everything before it.
-  BlockSummary            summary = SummarizeLabeling(s.Labeling, extent, m_Size, { 0, 0, s.Begin }, m_Rules);
-  std::vector<Resolution> settled;
-  summary.Settle(&settled);
+  // Its summary, merged with everything before it as it is (the merge decides what the slab
+  // alone would decide too); the first slab's settled alone.
+  BlockSummary summary = SummarizeLabeling(s.Labeling, extent, m_Size, { 0, 0, s.Begin }, m_Rules);
   s.Tracks.resize(components);
-  for (SizeValueType c = 0; c < components; ++c)
-  {
-    this->Follow(s, c, settled[c]);
-  }
   if (m_Summary)
   {
     std::vector<Resolution> lower;
@@ -243,15 +238,18 @@ StreamingSweep<TPixel>::ProcessSlab()
     }
     for (SizeValueType c = 0; c < components; ++c)
     {
-      if (s.Tracks[c].Node != BlockSummary::NoNode)
-      {
-        this->Follow(s, c, upper[s.Tracks[c].Node]);
-      }
+      this->Follow(s, c, upper[c]);
     }
     m_Summary = std::move(merged);
   }
   else
   {
+    std::vector<Resolution> settled;
+    summary.Settle(&settled);
+    for (SizeValueType c = 0; c < components; ++c)
+    {
+      this->Follow(s, c, settled[c]);
+    }
     m_Summary = std::make_unique<BlockSummary>(std::move(summary));
   }
   for (SizeValueType c = 0; c < components; ++c)

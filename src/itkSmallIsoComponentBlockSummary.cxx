@@ -183,15 +183,86 @@ BlockSummary::FaceLayerSize(unsigned int axis) const
   return this->Extent(axes[0]) * this->Extent(axes[1]);
 }
 
+SizeValueType
+BlockSummary::FaceRowWidth(unsigned int axis) const
+{
+  return this->Extent(FaceAxes(axis)[0]);
+}
+
+SizeValueType
+BlockSummary::FaceRows(unsigned int axis) const
+{
+  return this->Extent(FaceAxes(axis)[1]);
+}
+
 void
-BlockSummary::SetFaceLayer(unsigned int axis, bool upper, std::vector<NodeType> layer)
+BlockSummary::SetFaceLayer(unsigned int axis, bool upper, const std::vector<NodeType> & layer)
 {
   if (!this->HasFace(axis, upper) || layer.size() != this->FaceLayerSize(axis))
   {
     itkGenericExceptionMacro("BlockSummary: a face layer of axis " << axis << " needs " << this->FaceLayerSize(axis)
                                                                    << " entries and a face inside the image");
   }
+  const SizeValueType width = this->FaceRowWidth(axis);
+  const SizeValueType rows = this->FaceRows(axis);
+  FaceLayer           runs;
+  runs.RowBegin.reserve(rows + 1);
+  for (SizeValueType row = 0; row < rows; ++row)
+  {
+    runs.RowBegin.push_back(runs.Runs.size());
+    for (SizeValueType column = 0; column < width; ++column)
+    {
+      const NodeType node = layer[row * width + column];
+      if (column == 0 || runs.Runs.back().Node != node)
+      {
+        runs.Runs.push_back({ static_cast<uint32_t>(column), node });
+      }
+    }
+  }
+  runs.RowBegin.push_back(runs.Runs.size());
+  this->SetFaceLayer(axis, upper, std::move(runs));
+}
+
+void
+BlockSummary::SetFaceLayer(unsigned int axis, bool upper, FaceLayer layer)
+{
+  if (!this->HasFace(axis, upper) || !this->IsValidFaceLayer(axis, layer, NoNode))
+  {
+    itkGenericExceptionMacro("BlockSummary: a face layer of axis " << axis << " needs " << this->FaceRows(axis)
+                                                                   << " rows of runs over " << this->FaceRowWidth(axis)
+                                                                   << " voxels and a face inside the image");
+  }
   m_Face[FaceIndex(axis, upper)] = std::move(layer);
+}
+
+bool
+BlockSummary::IsValidFaceLayer(unsigned int axis, const FaceLayer & layer, SizeValueType nodes) const
+{
+  const SizeValueType width = this->FaceRowWidth(axis);
+  const SizeValueType rows = this->FaceRows(axis);
+  if (width > std::numeric_limits<uint32_t>::max() || layer.RowBegin.size() != rows + 1 || layer.RowBegin[0] != 0 ||
+      layer.RowBegin[rows] != layer.Runs.size())
+  {
+    return false;
+  }
+  for (SizeValueType row = 0; row < rows; ++row)
+  {
+    const SizeValueType first = layer.RowBegin[row];
+    const SizeValueType last = layer.RowBegin[row + 1];
+    if (first >= last || last > layer.Runs.size() || layer.Runs[first].Column != 0)
+    {
+      return false;
+    }
+    for (SizeValueType run = first; run < last; ++run)
+    {
+      const FaceRun & r = layer.Runs[run];
+      if (r.Node >= nodes || r.Column >= width || (run > first && r.Column <= layer.Runs[run - 1].Column))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 bool
@@ -233,18 +304,22 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
   const bool          belowProcessed = m_Rules.Side != SideEnum::Above;
 
   std::vector<uint8_t> wasAbove(m_Above.begin(), m_Above.end());
-  const auto           markOpen = [&](std::vector<uint8_t> & open) {
+  // The faces hold many voxels per node: the roots are found once per node, not once per voxel.
+  std::vector<NodeType> root(nodes);
+  const auto            findRoots = [&]() {
+    for (NodeType node = 0; node < nodes; ++node)
+    {
+      root[node] = Find(parent, node);
+    }
+  };
+  const auto markOpen = [&](std::vector<uint8_t> & open) {
+    findRoots();
     open.assign(nodes, 0);
     for (const auto & layer : m_Face)
     {
-      NodeType previous = NoNode;
-      for (const NodeType node : layer)
+      for (const FaceRun & run : layer.Runs)
       {
-        if (node != previous)
-        {
-          open[Find(parent, node)] = 1;
-          previous = node;
-        }
+        open[root[run.Node]] = 1;
       }
     }
   };
@@ -381,12 +456,35 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
       flippedVoxels.push_back(m_Flipped[node]);
     }
   }
+  for (NodeType node = 0; node < nodes; ++node)
+  {
+    root[node] = newNode[Find(parent, node)];
+  }
+  // The faces in the new numbering; runs of one component that are now side by side are one.
   for (auto & layer : m_Face)
   {
-    for (NodeType & node : layer)
+    if (layer.RowBegin.empty())
     {
-      node = newNode[Find(parent, node)];
+      continue;
     }
+    SizeValueType kept = 0;
+    const auto    rows = layer.RowBegin.size() - 1;
+    for (SizeValueType row = 0; row < rows; ++row)
+    {
+      const SizeValueType first = layer.RowBegin[row];
+      const SizeValueType last = layer.RowBegin[row + 1];
+      layer.RowBegin[row] = kept;
+      for (SizeValueType run = first; run < last; ++run)
+      {
+        const NodeType node = root[layer.Runs[run].Node];
+        if (run == first || layer.Runs[kept - 1].Node != node)
+        {
+          layer.Runs[kept++] = { layer.Runs[run].Column, node };
+        }
+      }
+    }
+    layer.RowBegin[rows] = kept;
+    layer.Runs.resize(kept);
   }
   std::vector<std::pair<NodeType, NodeType>> keptTouching;
   for (const auto & pair : touching)
@@ -497,10 +595,10 @@ BlockSummary::Merge(const BlockSummary &      lower,
 
   // The faces of the union: along the merge axis the outer faces of the two boxes, along the
   // others the two layers side by side.
-  const auto upperLayer = [offset](std::vector<NodeType> layer) {
-    for (NodeType & node : layer)
+  const auto upperLayer = [offset](FaceLayer layer) {
+    for (FaceRun & run : layer.Runs)
     {
-      node += offset;
+      run.Node += offset;
     }
     return layer;
   };
@@ -515,29 +613,52 @@ BlockSummary::Merge(const BlockSummary &      lower,
     const auto faceAxes = FaceAxes(b);
     for (const bool side : { false, true })
     {
-      const auto & low = lower.m_Face[FaceIndex(b, side)];
-      if (low.empty())
+      const FaceLayer & low = lower.m_Face[FaceIndex(b, side)];
+      if (low.RowBegin.empty())
       {
         continue;
       }
-      const auto            high = upperLayer(upper.m_Face[FaceIndex(b, side)]);
-      std::vector<NodeType> layer;
-      layer.reserve(low.size() + high.size());
+      const FaceLayer & high = upper.m_Face[FaceIndex(b, side)];
+      FaceLayer         layer;
+      layer.Runs.reserve(low.Runs.size() + high.Runs.size());
       if (faceAxes[1] == axis)
       {
-        layer = Concatenate(low, high);
+        // The merge axis runs across the rows: the rows of the upper box follow.
+        layer.RowBegin = low.RowBegin;
+        layer.Runs = low.Runs;
+        for (SizeValueType row = 1; row < high.RowBegin.size(); ++row)
+        {
+          layer.RowBegin.push_back(low.Runs.size() + high.RowBegin[row]);
+        }
+        for (const FaceRun & run : high.Runs)
+        {
+          layer.Runs.push_back({ run.Column, run.Node + offset });
+        }
       }
       else
       {
-        // The merge axis is the layer's faster axis: rows side by side.
+        // The merge axis runs along the rows: each row of the upper box follows its row of the
+        // lower one.
         const SizeValueType lowRow = lower.Extent(axis);
-        const SizeValueType highRow = upper.Extent(axis);
-        const SizeValueType rows = lower.Extent(faceAxes[1]);
+        if (lowRow + upper.Extent(axis) > std::numeric_limits<uint32_t>::max())
+        {
+          itkGenericExceptionMacro("BlockSummary::Merge: a face row of the union is longer than "
+                                   << std::numeric_limits<uint32_t>::max() << " voxels");
+        }
+        const SizeValueType rows = low.RowBegin.size() - 1;
+        layer.RowBegin.reserve(rows + 1);
         for (SizeValueType row = 0; row < rows; ++row)
         {
-          layer.insert(layer.end(), low.begin() + row * lowRow, low.begin() + (row + 1) * lowRow);
-          layer.insert(layer.end(), high.begin() + row * highRow, high.begin() + (row + 1) * highRow);
+          layer.RowBegin.push_back(layer.Runs.size());
+          layer.Runs.insert(
+            layer.Runs.end(), low.Runs.begin() + low.RowBegin[row], low.Runs.begin() + low.RowBegin[row + 1]);
+          for (SizeValueType run = high.RowBegin[row]; run < high.RowBegin[row + 1]; ++run)
+          {
+            layer.Runs.push_back(
+              { static_cast<uint32_t>(high.Runs[run].Column + lowRow), high.Runs[run].Node + offset });
+          }
         }
+        layer.RowBegin.push_back(layer.Runs.size());
       }
       merged.m_Face[FaceIndex(b, side)] = std::move(layer);
     }
@@ -545,15 +666,14 @@ BlockSummary::Merge(const BlockSummary &      lower,
 
   // Join the components that touch across the shared face; note which above components that
   // may be small touch which below ones there.
-  const auto & lowFace = lower.m_Face[FaceIndex(axis, true)];
-  const auto & highFace = upper.m_Face[FaceIndex(axis, false)];
-  const auto   faceAxes = FaceAxes(axis);
-  const auto   width = static_cast<int64_t>(lower.Extent(faceAxes[0]));
-  const auto   height = static_cast<int64_t>(lower.Extent(faceAxes[1]));
-  const int    reach = merged.m_Rules.FullyConnected ? 1 : 0;
-  NodeType     lastA = NoNode;
-  NodeType     lastB = NoNode;
-  const auto   link = [&](NodeType a, NodeType b) {
+  const FaceLayer &   lowFace = lower.m_Face[FaceIndex(axis, true)];
+  const FaceLayer &   highFace = upper.m_Face[FaceIndex(axis, false)];
+  const SizeValueType width = lower.FaceRowWidth(axis);
+  const SizeValueType height = lower.FaceRows(axis);
+  const int           reach = merged.m_Rules.FullyConnected ? 1 : 0;
+  NodeType            lastA = NoNode;
+  NodeType            lastB = NoNode;
+  const auto          link = [&](NodeType a, NodeType b) {
     if (a == lastA && b == lastB)
     {
       return;
@@ -585,25 +705,30 @@ BlockSummary::Merge(const BlockSummary &      lower,
       }
     }
   };
-  for (int64_t j = 0; j < height; ++j)
+  // Voxel i of a row touches voxels i - reach .. i + reach of the rows reach or fewer away: two
+  // runs [s, e) and [s', e') touch when s' < e + reach and s < e' + reach.
+  const auto runEnd = [width](const FaceLayer & layer, SizeValueType row, SizeValueType run) {
+    return run + 1 < layer.RowBegin[row + 1] ? SizeValueType{ layer.Runs[run + 1].Column } : width;
+  };
+  for (SizeValueType j = 0; j < height; ++j)
   {
-    for (int64_t i = 0; i < width; ++i)
+    const SizeValueType firstRow = j >= SizeValueType(reach) ? j - reach : 0;
+    const SizeValueType lastRow = std::min(height - 1, j + reach);
+    for (SizeValueType jj = firstRow; jj <= lastRow; ++jj)
     {
-      const NodeType a = lowFace[i + width * j];
-      for (int64_t dj = -reach; dj <= reach; ++dj)
+      SizeValueType       q = highFace.RowBegin[jj];
+      const SizeValueType qEnd = highFace.RowBegin[jj + 1];
+      for (SizeValueType p = lowFace.RowBegin[j]; p < lowFace.RowBegin[j + 1]; ++p)
       {
-        const int64_t jj = j + dj;
-        if (jj < 0 || jj >= height)
+        const SizeValueType s = lowFace.Runs[p].Column;
+        const SizeValueType e = runEnd(lowFace, j, p);
+        while (q < qEnd && runEnd(highFace, jj, q) + reach <= s)
         {
-          continue;
+          ++q;
         }
-        for (int64_t di = -reach; di <= reach; ++di)
+        for (SizeValueType r = q; r < qEnd && highFace.Runs[r].Column < e + reach; ++r)
         {
-          const int64_t ii = i + di;
-          if (ii >= 0 && ii < width)
-          {
-            link(a, highFace[ii + width * jj] + offset);
-          }
+          link(lowFace.Runs[p].Node, highFace.Runs[r].Node + offset);
         }
       }
     }
@@ -714,7 +839,7 @@ private:
   SizeValueType   m_Position{ 0 };
 };
 
-constexpr uint32_t SummaryMagic = 0x31424953; // "SIB1"
+constexpr uint32_t SummaryMagic = 0x32424953; // "SIB2": faces as runs
 
 void
 PutTally(Writer & writer, const SideTally & tally, const std::vector<std::pair<uint64_t, uint64_t>> & histogram)
@@ -748,7 +873,8 @@ BlockSummary::Serialize() const
   writer.PutVector(m_Flipped);
   for (const auto & layer : m_Face)
   {
-    writer.PutVector(layer);
+    writer.PutVector(layer.RowBegin);
+    writer.PutVector(layer.Runs);
   }
   writer.PutVector(m_Touching);
   for (const SideTally * tally : { &m_Tally.Above, &m_Tally.Below })
@@ -788,7 +914,8 @@ BlockSummary::Deserialize(const uint8_t * data, SizeValueType bytes)
   summary.m_Flipped = reader.GetVector<uint64_t>();
   for (auto & layer : summary.m_Face)
   {
-    layer = reader.GetVector<NodeType>();
+    layer.RowBegin = reader.GetVector<SizeValueType>();
+    layer.Runs = reader.GetVector<FaceRun>();
   }
   summary.m_Touching = reader.GetVector<std::pair<NodeType, NodeType>>();
   for (SideTally * tally : { &summary.m_Tally.Above, &summary.m_Tally.Below })
@@ -805,11 +932,19 @@ BlockSummary::Deserialize(const uint8_t * data, SizeValueType bytes)
   summary.m_Tally.UnrepairableVoxels = reader.Get<uint64_t>();
   const SizeValueType nodes = summary.m_Size.size();
   bool                valid = reader.AtEnd() && summary.m_Above.size() == nodes && summary.m_Flipped.size() == nodes;
-  for (const auto & layer : summary.m_Face)
+  for (unsigned int axis = 0; axis < 3; ++axis)
   {
-    for (const NodeType node : layer)
+    for (const bool upper : { false, true })
     {
-      valid = valid && node < nodes;
+      const auto & layer = summary.m_Face[FaceIndex(axis, upper)];
+      if (summary.HasFace(axis, upper))
+      {
+        valid = valid && summary.IsValidFaceLayer(axis, layer, nodes);
+      }
+      else
+      {
+        valid = valid && layer.RowBegin.empty() && layer.Runs.empty();
+      }
     }
   }
   for (const auto & pair : summary.m_Touching)
@@ -831,7 +966,7 @@ BlockSummary::GetMemoryInBytes() const
                         m_Touching.capacity() * sizeof(std::pair<NodeType, NodeType>);
   for (const auto & layer : m_Face)
   {
-    bytes += layer.capacity() * sizeof(NodeType);
+    bytes += layer.RowBegin.capacity() * sizeof(SizeValueType) + layer.Runs.capacity() * sizeof(FaceRun);
   }
   return bytes;
 }

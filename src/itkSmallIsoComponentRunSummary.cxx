@@ -45,48 +45,63 @@ SummarizeLabeling(const RunLabeling &             labeling,
   }
 
   // The faces inside the image: the components of the voxels along them.
-  const SizeValueType         nx = extent[0];
   const SizeValueType         ny = extent[1];
   const SizeValueType         nz = extent[2];
   const RunLabeling::RunTable table = labeling.GetRunTable();
   const auto componentOf = [&](SizeValueType run) { return static_cast<NodeType>(table.Component[run]); };
-  // Writes the components of line \a line into layer[first...] (one per voxel).
-  const auto fillLine = [&](std::vector<NodeType> & layer, SizeValueType first, SizeValueType line) {
+  // Appends line \a line as a row of runs (the runs of a line are its runs in the table).
+  const auto addLine = [&](BlockSummary::FaceLayer & layer, SizeValueType line) {
+    layer.RowBegin.push_back(layer.Runs.size());
     for (SizeValueType run = table.LineBegin[line]; run < table.LineBegin[line + 1]; ++run)
     {
-      std::fill(
-        layer.begin() + first + table.Start[run], layer.begin() + first + table.End(run, line), componentOf(run));
+      layer.Runs.push_back({ static_cast<uint32_t>(table.Start[run]), componentOf(run) });
     }
   };
   for (const bool upper : { false, true })
   {
     if (summary.HasFace(0, upper))
     {
-      std::vector<NodeType> layer(ny * nz);
-      for (SizeValueType line = 0; line < ny * nz; ++line)
+      // Rows along y, one voxel of each line.
+      BlockSummary::FaceLayer layer;
+      layer.RowBegin.reserve(nz + 1);
+      for (SizeValueType z = 0; z < nz; ++z)
       {
-        layer[line] = componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]);
+        layer.RowBegin.push_back(layer.Runs.size());
+        for (SizeValueType y = 0; y < ny; ++y)
+        {
+          const SizeValueType line = y + ny * z;
+          const NodeType      node = componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]);
+          if (y == 0 || layer.Runs.back().Node != node)
+          {
+            layer.Runs.push_back({ static_cast<uint32_t>(y), node });
+          }
+        }
       }
+      layer.RowBegin.push_back(layer.Runs.size());
       summary.SetFaceLayer(0, upper, std::move(layer));
     }
     if (summary.HasFace(1, upper))
     {
-      std::vector<NodeType> layer(nx * nz);
-      const SizeValueType   y = upper ? ny - 1 : 0;
+      BlockSummary::FaceLayer layer;
+      layer.RowBegin.reserve(nz + 1);
+      const SizeValueType y = upper ? ny - 1 : 0;
       for (SizeValueType z = 0; z < nz; ++z)
       {
-        fillLine(layer, z * nx, y + ny * z);
+        addLine(layer, y + ny * z);
       }
+      layer.RowBegin.push_back(layer.Runs.size());
       summary.SetFaceLayer(1, upper, std::move(layer));
     }
     if (summary.HasFace(2, upper))
     {
-      std::vector<NodeType> layer(nx * ny);
-      const SizeValueType   z = upper ? nz - 1 : 0;
+      BlockSummary::FaceLayer layer;
+      layer.RowBegin.reserve(ny + 1);
+      const SizeValueType z = upper ? nz - 1 : 0;
       for (SizeValueType y = 0; y < ny; ++y)
       {
-        fillLine(layer, y * nx, y + ny * z);
+        addLine(layer, y + ny * z);
       }
+      layer.RowBegin.push_back(layer.Runs.size());
       summary.SetFaceLayer(2, upper, std::move(layer));
     }
   }

@@ -217,11 +217,11 @@ StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize
   const uint64_t window = itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes);
   // Per plane held: its voxels, and its run labelling (runs, components, their fates) at about a byte a
   // voxel, which is what smooth and moderately noisy volumes take (a run every eight voxels or
-  // fewer); then the face layers of two summaries (4 bytes a voxel each), the slab being read and the
-  // plane being written. Denser data (noise at every voxel) take more: the run reports its peak.
+  // fewer); then the face layers of the three summaries a merge holds (8 bytes a run, so a byte a
+  // voxel at that density), the slab being read and the plane being written. Denser data (noise at
+  // every voxel) take more: the run reports its peak.
   const uint64_t perPlane = planeVoxels * (geometry.PixelBytes() + 1);
-  return window * perPlane + 2 * 4 * planeVoxels + (slabPlanes + 1) * planeVoxels * geometry.PixelBytes() +
-         planeVoxels * 2;
+  return window * perPlane + 3 * planeVoxels + (slabPlanes + 1) * planeVoxels * geometry.PixelBytes() + planeVoxels * 2;
 }
 
 std::uint64_t
