@@ -163,7 +163,10 @@ private:
   unsigned int        m_WorkUnits;
   PlaneCallback       m_Emit;
 
-  std::vector<TPixel>               m_Pending;
+  std::vector<TPixel> m_Pending;
+  /** The values buffer of a slab dropped from the window, kept for the next slab: a fresh one would
+   * cost a page fault every few kilobytes. */
+  std::vector<TPixel>               m_SpareValues;
   uint64_t                          m_PlanesIn{ 0 };
   uint64_t                          m_NextPlaneOut{ 0 };
   std::deque<std::unique_ptr<Slab>> m_Window;

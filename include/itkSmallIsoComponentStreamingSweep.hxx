@@ -176,6 +176,7 @@ StreamingSweep<TPixel>::ProcessSlab()
   s.Begin = m_PlanesIn - planes;
   s.End = m_PlanesIn;
   s.Values.swap(m_Pending);
+  m_Pending.swap(m_SpareValues);
   m_Pending.clear();
   m_Pending.reserve(m_SlabPlanes * m_PlaneVoxels);
 
@@ -449,6 +450,11 @@ StreamingSweep<TPixel>::EmitReadyPlanes()
   // plane may read the slab's last plane.
   while (!m_Window.empty() && (m_Window.front()->End < m_NextPlaneOut || m_NextPlaneOut == m_Size[2]))
   {
+    auto & values = m_Window.front()->Values;
+    if (m_NextPlaneOut < m_Size[2] && values.capacity() > m_SpareValues.capacity())
+    {
+      m_SpareValues.swap(values);
+    }
     m_Window.pop_front();
   }
 }
@@ -457,8 +463,9 @@ template <typename TPixel>
 void
 StreamingSweep<TPixel>::UpdateMemory()
 {
-  uint64_t bytes = m_Pending.capacity() * sizeof(TPixel) + (m_OutputPlane.capacity() + 0) * sizeof(TPixel) +
-                   m_MaskPlane.capacity() + (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
+  uint64_t bytes = (m_Pending.capacity() + m_SpareValues.capacity()) * sizeof(TPixel) +
+                   m_OutputPlane.capacity() * sizeof(TPixel) + m_MaskPlane.capacity() +
+                   (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
   uint64_t planes = m_Pending.size() / m_PlaneVoxels;
   for (const auto & slab : m_Window)
   {
