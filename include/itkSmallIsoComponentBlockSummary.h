@@ -169,6 +169,27 @@ public:
   {
     std::vector<SizeValueType> RowBegin; // rows + 1 entries; empty when the face is not held
     std::vector<FaceRun>       Runs;
+
+    /** Building a layer: BeginRow() before each row, AddVoxels() for its voxels from left to
+     * right (voxels of the node of the run before them lengthen it), EndLayer() after the last. */
+    void
+    BeginRow()
+    {
+      RowBegin.push_back(Runs.size());
+    }
+    void
+    AddVoxels(SizeValueType column, NodeType node)
+    {
+      if (Runs.size() == RowBegin.back() || Runs.back().Node != node)
+      {
+        Runs.push_back({ static_cast<uint32_t>(column), node });
+      }
+    }
+    void
+    EndLayer()
+    {
+      RowBegin.push_back(Runs.size());
+    }
   };
 
   /** \name Building from a labelled box
@@ -186,11 +207,6 @@ public:
   SetFaceLayer(unsigned int axis, bool upper, const std::vector<NodeType> & layer);
   void
   SetFaceLayer(unsigned int axis, bool upper, FaceLayer layer);
-  /** The width of the rows of the face of \a axis and their number. */
-  SizeValueType
-  FaceRowWidth(unsigned int axis) const;
-  SizeValueType
-  FaceRows(unsigned int axis) const;
   /** Whether AddTouching() is needed for an above component of this size. */
   bool
   NeedsTouching(uint64_t aboveSize) const;
@@ -289,6 +305,11 @@ private:
   }
   SizeValueType
   FaceLayerSize(unsigned int axis) const;
+  /** The width of the rows of the face of \a axis and their number. */
+  SizeValueType
+  FaceRowWidth(unsigned int axis) const;
+  SizeValueType
+  FaceRows(unsigned int axis) const;
 
   /** Decides, given the union-find \a parent over the nodes held in the working arrays
    * (m_Size, m_Above, m_Flipped of every node, valid at roots) and \a touching pairs, what

@@ -209,17 +209,13 @@ BlockSummary::SetFaceLayer(unsigned int axis, bool upper, const std::vector<Node
   runs.RowBegin.reserve(rows + 1);
   for (SizeValueType row = 0; row < rows; ++row)
   {
-    runs.RowBegin.push_back(runs.Runs.size());
+    runs.BeginRow();
     for (SizeValueType column = 0; column < width; ++column)
     {
-      const NodeType node = layer[row * width + column];
-      if (column == 0 || runs.Runs.back().Node != node)
-      {
-        runs.Runs.push_back({ static_cast<uint32_t>(column), node });
-      }
+      runs.AddVoxels(column, layer[row * width + column]);
     }
   }
-  runs.RowBegin.push_back(runs.Runs.size());
+  runs.EndLayer();
   this->SetFaceLayer(axis, upper, std::move(runs));
 }
 
@@ -618,22 +614,17 @@ BlockSummary::Merge(const BlockSummary &      lower,
       {
         continue;
       }
-      const FaceLayer & high = upper.m_Face[FaceIndex(b, side)];
-      FaceLayer         layer;
-      layer.Runs.reserve(low.Runs.size() + high.Runs.size());
+      const FaceLayer high = upperLayer(upper.m_Face[FaceIndex(b, side)]);
+      FaceLayer       layer;
       if (faceAxes[1] == axis)
       {
         // The merge axis runs across the rows: the rows of the upper box follow.
         layer.RowBegin = low.RowBegin;
-        layer.Runs = low.Runs;
         for (SizeValueType row = 1; row < high.RowBegin.size(); ++row)
         {
           layer.RowBegin.push_back(low.Runs.size() + high.RowBegin[row]);
         }
-        for (const FaceRun & run : high.Runs)
-        {
-          layer.Runs.push_back({ run.Column, run.Node + offset });
-        }
+        layer.Runs = Concatenate(low.Runs, high.Runs);
       }
       else
       {
@@ -647,18 +638,18 @@ BlockSummary::Merge(const BlockSummary &      lower,
         }
         const SizeValueType rows = low.RowBegin.size() - 1;
         layer.RowBegin.reserve(rows + 1);
+        layer.Runs.reserve(low.Runs.size() + high.Runs.size());
         for (SizeValueType row = 0; row < rows; ++row)
         {
-          layer.RowBegin.push_back(layer.Runs.size());
+          layer.BeginRow();
           layer.Runs.insert(
             layer.Runs.end(), low.Runs.begin() + low.RowBegin[row], low.Runs.begin() + low.RowBegin[row + 1]);
           for (SizeValueType run = high.RowBegin[row]; run < high.RowBegin[row + 1]; ++run)
           {
-            layer.Runs.push_back(
-              { static_cast<uint32_t>(high.Runs[run].Column + lowRow), high.Runs[run].Node + offset });
+            layer.Runs.push_back({ static_cast<uint32_t>(high.Runs[run].Column + lowRow), high.Runs[run].Node });
           }
         }
-        layer.RowBegin.push_back(layer.Runs.size());
+        layer.EndLayer();
       }
       merged.m_Face[FaceIndex(b, side)] = std::move(layer);
     }

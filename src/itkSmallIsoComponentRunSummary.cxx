@@ -51,10 +51,10 @@ SummarizeLabeling(const RunLabeling &             labeling,
   const auto componentOf = [&](SizeValueType run) { return static_cast<NodeType>(table.Component[run]); };
   // Appends line \a line as a row of runs (the runs of a line are its runs in the table).
   const auto addLine = [&](BlockSummary::FaceLayer & layer, SizeValueType line) {
-    layer.RowBegin.push_back(layer.Runs.size());
+    layer.BeginRow();
     for (SizeValueType run = table.LineBegin[line]; run < table.LineBegin[line + 1]; ++run)
     {
-      layer.Runs.push_back({ static_cast<uint32_t>(table.Start[run]), componentOf(run) });
+      layer.AddVoxels(table.Start[run], componentOf(run));
     }
   };
   for (const bool upper : { false, true })
@@ -66,18 +66,14 @@ SummarizeLabeling(const RunLabeling &             labeling,
       layer.RowBegin.reserve(nz + 1);
       for (SizeValueType z = 0; z < nz; ++z)
       {
-        layer.RowBegin.push_back(layer.Runs.size());
+        layer.BeginRow();
         for (SizeValueType y = 0; y < ny; ++y)
         {
           const SizeValueType line = y + ny * z;
-          const NodeType      node = componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]);
-          if (y == 0 || layer.Runs.back().Node != node)
-          {
-            layer.Runs.push_back({ static_cast<uint32_t>(y), node });
-          }
+          layer.AddVoxels(y, componentOf(upper ? table.LineBegin[line + 1] - 1 : table.LineBegin[line]));
         }
       }
-      layer.RowBegin.push_back(layer.Runs.size());
+      layer.EndLayer();
       summary.SetFaceLayer(0, upper, std::move(layer));
     }
     if (summary.HasFace(1, upper))
@@ -89,7 +85,7 @@ SummarizeLabeling(const RunLabeling &             labeling,
       {
         addLine(layer, y + ny * z);
       }
-      layer.RowBegin.push_back(layer.Runs.size());
+      layer.EndLayer();
       summary.SetFaceLayer(1, upper, std::move(layer));
     }
     if (summary.HasFace(2, upper))
@@ -101,7 +97,7 @@ SummarizeLabeling(const RunLabeling &             labeling,
       {
         addLine(layer, y + ny * z);
       }
-      layer.RowBegin.push_back(layer.Runs.size());
+      layer.EndLayer();
       summary.SetFaceLayer(2, upper, std::move(layer));
     }
   }
