@@ -36,7 +36,8 @@ namespace itk
  * asks its input only for the planes it has not seen yet, up to a bounded distance beyond the
  * piece. Pieces are expected in order, as ITK's writers ask for them; a request for an earlier
  * piece starts the sweep again from the first plane (correct, but the work is done again). Memory:
- * a window of at most 2K + 4 + 2 SlabThickness planes with their run labelling, whatever the
+ * a window of at most 2K + 4 + 3 SlabThickness planes (2K + 4 + 2 SlabThickness with one work unit: with
+ * more, the next slab is labelled while the one before is merged) with their run labelling, whatever the
  * image's depth (see SmallIsoComponentDetail::StreamingSweep and docs/algorithm.md).
  *
  * Parameters and statistics are those of SmallIsoComponentImageFilter (IsoValue,

@@ -153,7 +153,8 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::GenerateInputR
   constexpr unsigned int last = ImageDimension - 1;
   const uint64_t         depth = largest.GetSize(last);
   // Planes beyond the piece decide it: at most the window's reach.
-  const uint64_t reach = SweepType::WindowPlanes(this->GetEffectiveMaximumComponentSize(), m_SlabThickness);
+  const uint64_t reach =
+    SweepType::WindowPlanes(this->GetEffectiveMaximumComponentSize(), m_SlabThickness, this->GetNumberOfWorkUnits());
   const uint64_t ready = m_Ready.empty() ? m_Sweep->GetNumberOfPlanesOut() : m_Ready.back().Plane + 1;
   m_InputEnd = ready >= end ? m_PlanesTaken : std::min(depth, std::max(m_PlanesTaken, end + reach));
   auto region = largest;

@@ -21,6 +21,7 @@
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentRunEncoder.h"
+#include "itkSmallIsoComponentWorkTeam.h"
 #include <deque>
 #include <functional>
 #include <memory>
@@ -45,6 +46,11 @@ namespace SmallIsoComponentDetail
  * given out. A small component spans at most K planes and a below group of Side Both is decided
  * at most about 2K + 3 planes after its first one, so the window holds about 2K + 3 planes plus a
  * slab (docs/algorithm.md derives the bound), whatever the depth of the image.
+ *
+ * With two work units or more, each slab is labelled on a background thread (BackgroundTask, with
+ * the work units but one) while the calling thread merges the slab before it, repairs and gives
+ * out planes; the window then holds one slab more. Planes are always given out on the calling
+ * thread, in order, and the output and statistics do not depend on the work units.
  *
  * Internal to the module: SmallIsoComponentStreamingImageFilter and the command-line tool use it.
  * \ingroup SmallIsoComponent
@@ -123,17 +129,35 @@ public:
   }
 
   /** A bound on the planes the sweep holds at once, for components of at most
-   * \a maximumComponentSize voxels and slabs of \a slabPlanes planes. */
+   * \a maximumComponentSize voxels, slabs of \a slabPlanes planes and \a workUnits work units:
+   * 2K + 4 + 2T planes with one work unit, 2K + 4 + 3T with more (a slab more is labelled while
+   * the one before it is merged). It is also how many planes beyond a plane the sweep may need
+   * before it gives that plane out. */
   static uint64_t
-  WindowPlanes(uint64_t maximumComponentSize, uint64_t slabPlanes);
+  WindowPlanes(uint64_t maximumComponentSize, uint64_t slabPlanes, unsigned int workUnits);
 
 private:
   struct Slab;
   using Resolution = BlockSummary::Resolution;
   using State = BlockSummary::State;
 
+  struct HeldMemory
+  {
+    uint64_t Bytes{ 0 };
+    uint64_t Planes{ 0 };
+  };
+
+  /** Takes the pending planes as the next slab: merges the slab labelled before while it labels
+   * this one. */
   void
   ProcessSlab();
+  /** Labels \a slab on its own, finds its candidate runs and summarizes it. */
+  void
+  LabelSlab(Slab & slab, unsigned int workUnits) const;
+  /** Merges the labelled \a slab into the summary, repairs what is decided, gives out what is
+   * ready. */
+  void
+  MergeSlab(std::unique_ptr<Slab> slab);
   void
   Follow(Slab & slab, SizeValueType component, const Resolution & resolution);
   void
@@ -149,6 +173,8 @@ private:
    * pass), and its value. */
   bool
   IsBelowAfterAbovePass(uint64_t x, uint64_t y, uint64_t z, TPixel & value);
+  HeldMemory
+  GetHeldMemory() const;
   void
   UpdateMemory();
 
@@ -170,12 +196,17 @@ private:
   uint64_t                          m_PlanesIn{ 0 };
   uint64_t                          m_NextPlaneOut{ 0 };
   std::deque<std::unique_ptr<Slab>> m_Window;
-  std::unique_ptr<BlockSummary>     m_Summary;
-  uint64_t                          m_FallbackVoxels{ 0 };
-  uint64_t                          m_PeakMemoryInBytes{ 0 };
-  uint64_t                          m_PeakWindowPlanes{ 0 };
-  std::vector<TPixel>               m_OutputPlane;
-  std::vector<uint8_t>              m_MaskPlane;
+  /** The last slab taken: labelled, merged when the next one is taken (or at Finish()). */
+  std::unique_ptr<Slab>         m_Labelled;
+  BackgroundTask                m_Labeller;
+  uint64_t                      m_MergePeakBytes{ 0 };
+  uint64_t                      m_MergePeakPlanes{ 0 };
+  std::unique_ptr<BlockSummary> m_Summary;
+  uint64_t                      m_FallbackVoxels{ 0 };
+  uint64_t                      m_PeakMemoryInBytes{ 0 };
+  uint64_t                      m_PeakWindowPlanes{ 0 };
+  std::vector<TPixel>           m_OutputPlane;
+  std::vector<uint8_t>          m_MaskPlane;
 };
 
 /** Filters the box of \a extent voxels at \a values (x fastest) as if it were the whole image, and

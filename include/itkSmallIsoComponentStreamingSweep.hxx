@@ -59,6 +59,8 @@ struct StreamingSweep<TPixel>::Slab
   std::vector<SizeValueType> Unsettled;
   /** Per plane of the slab, the repaired voxels in the order they were written. */
   std::vector<std::vector<Repair>> Repairs;
+  /** The slab's own summary, from its labelling until it is merged. */
+  std::unique_ptr<BlockSummary> Summary;
 
   SizeValueType
   GetMemoryInBytes() const
@@ -66,7 +68,7 @@ struct StreamingSweep<TPixel>::Slab
     SizeValueType bytes = Values.capacity() * sizeof(TPixel) + Labeling.GetMemoryInBytes() +
                           Tracks.capacity() * sizeof(Track) + CandidateBegin.capacity() * sizeof(SizeValueType) +
                           Candidates.capacity() * sizeof(RunLabeling::LineRun) +
-                          Unsettled.capacity() * sizeof(SizeValueType);
+                          Unsettled.capacity() * sizeof(SizeValueType) + (Summary ? Summary->GetMemoryInBytes() : 0);
     for (const auto & plane : Repairs)
     {
       bytes += plane.capacity() * sizeof(Repair);
@@ -118,9 +120,11 @@ StreamingSweep<TPixel>::~StreamingSweep() = default;
 
 template <typename TPixel>
 uint64_t
-StreamingSweep<TPixel>::WindowPlanes(uint64_t maximumComponentSize, uint64_t slabPlanes)
+StreamingSweep<TPixel>::WindowPlanes(uint64_t maximumComponentSize, uint64_t slabPlanes, unsigned int workUnits)
 {
-  return 2 * maximumComponentSize + 4 + 2 * std::max<uint64_t>(1, slabPlanes);
+  // With two work units or more one slab more is held: labelled while the one before is merged.
+  const uint64_t slabs = workUnits > 1 ? 3 : 2;
+  return 2 * maximumComponentSize + 4 + slabs * std::max<uint64_t>(1, slabPlanes);
 }
 
 template <typename TPixel>
@@ -159,6 +163,12 @@ StreamingSweep<TPixel>::Finish()
   {
     this->ProcessSlab();
   }
+  if (m_Labelled)
+  {
+    m_MergePeakBytes = 0;
+    m_MergePeakPlanes = 0;
+    this->MergeSlab(std::move(m_Labelled));
+  }
   if (m_NextPlaneOut != m_Size[2])
   {
     itkGenericExceptionMacro("StreamingSweep: only " << m_NextPlaneOut << " of " << m_Size[2]
@@ -180,7 +190,51 @@ StreamingSweep<TPixel>::ProcessSlab()
   m_Pending.clear();
   m_Pending.reserve(m_SlabPlanes * m_PlaneVoxels);
 
+  m_MergePeakBytes = 0;
+  m_MergePeakPlanes = 0;
+  if (m_WorkUnits == 1)
+  {
+    this->LabelSlab(s, 1);
+    this->MergeSlab(std::move(slab));
+    return;
+  }
+  // With two work units or more the slab before it is merged (on this thread, which gives out the
+  // planes) while this one is labelled on the background thread. The two share no data: the
+  // merge reads and writes the window, the summary and the slab before; the labelling this slab
+  // alone.
+  if (m_Labelled)
+  {
+    m_Labeller.Start([this, &s] { this->LabelSlab(s, m_WorkUnits - 1); });
+    try
+    {
+      this->MergeSlab(std::move(m_Labelled));
+    }
+    catch (...)
+    {
+      m_Labeller.WaitQuietly();
+      throw;
+    }
+    m_Labeller.Wait();
+  }
+  else
+  {
+    this->LabelSlab(s, m_WorkUnits);
+  }
+  // Held at once: what the merge held, and this slab (labelled meanwhile).
+  const HeldMemory held = this->GetHeldMemory();
+  m_MergePeakBytes = std::max(m_MergePeakBytes, held.Bytes);
+  m_MergePeakPlanes = std::max(m_MergePeakPlanes, held.Planes);
+  m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, m_MergePeakBytes + s.GetMemoryInBytes());
+  m_PeakWindowPlanes = std::max(m_PeakWindowPlanes, m_MergePeakPlanes + (s.End - s.Begin));
+  m_Labelled = std::move(slab);
+}
+
+template <typename TPixel>
+void
+StreamingSweep<TPixel>::LabelSlab(Slab & s, unsigned int workUnits) const
+{
   // Label the slab on its own.
+  const uint64_t  planes = s.End - s.Begin;
   const IndexType extent{ m_Size[0], m_Size[1], planes };
   LabelBox(s.Values.data(),
            extent,
@@ -188,7 +242,7 @@ StreamingSweep<TPixel>::ProcessSlab()
            m_Rules.FullyConnected,
            m_Rules.MaximumComponentSize,
            m_Threader,
-           m_WorkUnits,
+           workUnits,
            s.Labeling);
   const SizeValueType  components = s.Labeling.GetNumberOfComponents();
   std::vector<uint8_t> small(components, 0);
@@ -217,16 +271,25 @@ StreamingSweep<TPixel>::ProcessSlab()
     }
   }
   s.Repairs.resize(planes);
-
-  // Its summary, merged with everything before it as it is (the merge decides what the slab
-  // alone would decide too); the first slab's settled alone.
-  BlockSummary summary = SummarizeLabeling(s.Labeling, extent, m_Size, { 0, 0, s.Begin }, m_Rules);
   s.Tracks.resize(components);
+  s.Summary = std::make_unique<BlockSummary>(SummarizeLabeling(s.Labeling, extent, m_Size, { 0, 0, s.Begin }, m_Rules));
+}
+
+template <typename TPixel>
+void
+StreamingSweep<TPixel>::MergeSlab(std::unique_ptr<Slab> slab)
+{
+  Slab &              s = *slab;
+  const SizeValueType components = s.Tracks.size();
+  // The slab's summary, merged with everything before it as it is (the merge decides what the
+  // slab alone would decide too); the first slab's settled alone.
+  std::unique_ptr<BlockSummary> summary = std::move(s.Summary);
   if (m_Summary)
   {
     std::vector<Resolution> lower;
     std::vector<Resolution> upper;
-    auto merged = std::make_unique<BlockSummary>(BlockSummary::Merge(*m_Summary, summary, &lower, &upper));
+    auto merged = std::make_unique<BlockSummary>(BlockSummary::Merge(*m_Summary, *summary, &lower, &upper));
+    summary.reset();
     for (auto & older : m_Window)
     {
       for (const SizeValueType c : older->Unsettled)
@@ -246,12 +309,12 @@ StreamingSweep<TPixel>::ProcessSlab()
   else
   {
     std::vector<Resolution> settled;
-    summary.Settle(&settled);
+    summary->Settle(&settled);
     for (SizeValueType c = 0; c < components; ++c)
     {
       this->Follow(s, c, settled[c]);
     }
-    m_Summary = std::make_unique<BlockSummary>(std::move(summary));
+    m_Summary = std::move(summary);
   }
   for (SizeValueType c = 0; c < components; ++c)
   {
@@ -460,21 +523,39 @@ StreamingSweep<TPixel>::EmitReadyPlanes()
 }
 
 template <typename TPixel>
+auto
+StreamingSweep<TPixel>::GetHeldMemory() const -> HeldMemory
+{
+  HeldMemory held;
+  held.Bytes = (m_Pending.capacity() + m_SpareValues.capacity()) * sizeof(TPixel) +
+               m_OutputPlane.capacity() * sizeof(TPixel) + m_MaskPlane.capacity() +
+               (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
+  held.Planes = m_Pending.size() / m_PlaneVoxels;
+  for (const auto & slab : m_Window)
+  {
+    held.Bytes += slab->GetMemoryInBytes();
+    held.Planes += slab->End - slab->Begin;
+  }
+  if (m_Labelled)
+  {
+    held.Bytes += m_Labelled->GetMemoryInBytes();
+    held.Planes += m_Labelled->End - m_Labelled->Begin;
+  }
+  return held;
+}
+
+template <typename TPixel>
 void
 StreamingSweep<TPixel>::UpdateMemory()
 {
-  uint64_t bytes = (m_Pending.capacity() + m_SpareValues.capacity()) * sizeof(TPixel) +
-                   m_OutputPlane.capacity() * sizeof(TPixel) + m_MaskPlane.capacity() +
-                   (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
-  uint64_t planes = m_Pending.size() / m_PlaneVoxels;
-  for (const auto & slab : m_Window)
-  {
-    bytes += slab->GetMemoryInBytes();
-    planes += slab->End - slab->Begin;
-  }
-  m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, bytes);
-  m_PeakWindowPlanes = std::max(m_PeakWindowPlanes, planes);
+  // While a merge runs the next slab may be in labelling; ProcessSlab() adds it.
+  const HeldMemory held = this->GetHeldMemory();
+  m_MergePeakBytes = std::max(m_MergePeakBytes, held.Bytes);
+  m_MergePeakPlanes = std::max(m_MergePeakPlanes, held.Planes);
+  m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, held.Bytes);
+  m_PeakWindowPlanes = std::max(m_PeakWindowPlanes, held.Planes);
 }
+
 template <typename TPixel>
 void
 FilterBoxPart(const TPixel *                  values,

@@ -23,6 +23,7 @@
 #include "SmallIsoComponentExport.h"
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -141,6 +142,42 @@ private:
   unsigned int           m_NumberOfHelpers{ 0 };
   bool                   m_FirstLoopEnded{ false };
   std::shared_ptr<State> m_State;
+};
+/** \class BackgroundTask
+ * \brief One thread beside the calling one, for one task at a time: Start() hands it the task
+ * and returns at once, Wait() returns when the task has ended and rethrows what it threw.
+ * Internal to StreamingSweep, which labels the next slab on it while the calling thread merges
+ * and gives out the one before.
+ *
+ * The thread is made by the first Start() and ends with the object, which waits for a task in
+ * progress first. Start() and Wait() must be called from one thread, alternately.
+ *
+ * \ingroup SmallIsoComponent
+ */
+class SmallIsoComponent_EXPORT BackgroundTask
+{
+public:
+  BackgroundTask();
+  ~BackgroundTask();
+  BackgroundTask(const BackgroundTask &) = delete;
+  BackgroundTask &
+  operator=(const BackgroundTask &) = delete;
+
+  /** Runs \a task on the background thread. */
+  void
+  Start(std::function<void()> task);
+  /** Waits for the task given to Start() to end; rethrows the exception it ended with. */
+  void
+  Wait();
+  /** Waits for the task to end, ignoring what it threw (for a caller that is unwinding). */
+  void
+  WaitQuietly() noexcept;
+
+  /** The shared state of the thread (defined in the .cxx file). */
+  struct State;
+
+private:
+  std::unique_ptr<State> m_State;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

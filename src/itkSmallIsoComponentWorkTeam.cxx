@@ -256,5 +256,103 @@ WorkTeam::Run(SizeValueType items, CallType call, void * context)
     std::rethrow_exception(job.Error);
   }
 }
+struct BackgroundTask::State
+{
+  std::mutex              Mutex;
+  std::condition_variable Changed;
+  std::function<void()>   Task;
+  bool                    Busy{ false };
+  bool                    Quit{ false };
+  std::exception_ptr      Error;
+  std::thread             Thread;
+
+  void
+  Serve()
+  {
+    std::unique_lock<std::mutex> lock(Mutex);
+    for (;;)
+    {
+      Changed.wait(lock, [this] { return Quit || static_cast<bool>(Task); });
+      if (!Task)
+      {
+        return;
+      }
+      std::function<void()> task = std::move(Task);
+      Task = nullptr;
+      lock.unlock();
+      std::exception_ptr error;
+      try
+      {
+        task();
+      }
+      catch (...)
+      {
+        error = std::current_exception();
+      }
+      lock.lock();
+      Error = error;
+      Busy = false;
+      Changed.notify_all();
+    }
+  }
+};
+
+BackgroundTask::BackgroundTask()
+  : m_State(std::make_unique<State>())
+{}
+
+BackgroundTask::~BackgroundTask()
+{
+  this->WaitQuietly();
+  if (m_State->Thread.joinable())
+  {
+    {
+      std::lock_guard<std::mutex> lock(m_State->Mutex);
+      m_State->Quit = true;
+    }
+    m_State->Changed.notify_all();
+    m_State->Thread.join();
+  }
+}
+
+void
+BackgroundTask::Start(std::function<void()> task)
+{
+  State & state = *m_State;
+  if (!state.Thread.joinable())
+  {
+    state.Thread = std::thread([&state] { state.Serve(); });
+  }
+  {
+    std::lock_guard<std::mutex> lock(state.Mutex);
+    state.Task = std::move(task);
+    state.Busy = true;
+    state.Error = nullptr;
+  }
+  state.Changed.notify_all();
+}
+
+void
+BackgroundTask::Wait()
+{
+  State &                      state = *m_State;
+  std::unique_lock<std::mutex> lock(state.Mutex);
+  state.Changed.wait(lock, [&state] { return !state.Busy; });
+  if (state.Error)
+  {
+    std::exception_ptr error = state.Error;
+    state.Error = nullptr;
+    std::rethrow_exception(error);
+  }
+}
+
+void
+BackgroundTask::WaitQuietly() noexcept
+{
+  State &                      state = *m_State;
+  std::unique_lock<std::mutex> lock(state.Mutex);
+  state.Changed.wait(lock, [&state] { return !state.Busy; });
+  state.Error = nullptr;
+}
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -140,8 +140,8 @@ ExpectStreamingMatchesInMemory(const RandomCase<TPixel, VDimension> & c, unsigne
   // The reader was never asked for the whole image when the pieces were thin enough.
   const SizeValueType voxels = c.Input->GetLargestPossibleRegion().GetNumberOfPixels();
   const SizeValueType depth = c.Size[VDimension - 1];
-  const SizeValueType reach =
-    SmallIsoComponentDetail::StreamingSweep<TPixel>::WindowPlanes(c.Settings.MaximumComponentSize, slab);
+  const SizeValueType reach = SmallIsoComponentDetail::StreamingSweep<TPixel>::WindowPlanes(
+    c.Settings.MaximumComponentSize, slab, filter->GetNumberOfWorkUnits());
   if ((depth + divisions - 1) / divisions + reach < depth)
   {
     EXPECT_LT(recorder->LargestRequest, voxels) << c.Description;

@@ -92,8 +92,8 @@ SweepDifferences(const RandomCase<TPixel, VDimension> & c,
                 << tally.UnrepairableVoxels << "+" << sweep.GetNumberOfFallbackVoxels() << "/"
                 << expected.UnrepairableVoxels;
   }
-  const uint64_t bound =
-    SmallIsoComponentDetail::StreamingSweep<TPixel>::WindowPlanes(c.Settings.MaximumComponentSize, slabPlanes);
+  const uint64_t bound = SmallIsoComponentDetail::StreamingSweep<TPixel>::WindowPlanes(
+    c.Settings.MaximumComponentSize, slabPlanes, workUnits);
   if (sweep.GetPeakWindowPlanes() > bound)
   {
     differences << " held " << sweep.GetPeakWindowPlanes() << " planes at once, more than the bound " << bound;

@@ -34,6 +34,7 @@
 
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentBlockSummary.h"
+#include "itkSmallIsoComponentStreamingSweep.h"
 
 #ifdef SIC_HAVE_VTK
 #  include "sicHeadlessDisplay.h"
@@ -593,15 +594,16 @@ FilterStreamed(const sic::FilterSettings & settings,
   // What the process holds already (libraries, the tool) is not the sweep's to use.
   const std::uint64_t baseline = sic::PeakResidentBytes();
   const std::uint64_t budget = limit > baseline ? limit - baseline : 0;
-  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, maximumSize, budget);
+  const unsigned int  workUnits = sic::StreamingWorkUnits(settings);
+  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, maximumSize, budget, workUnits);
   if (slabPlanes == 0)
   {
-    const std::uint64_t needed = baseline + sic::StreamingWorkingBytes(geometry, maximumSize, 1);
-    throw sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
-                         " MiB is too small to stream this image with K = " + std::to_string(maximumSize) +
-                         ": it needs about " + std::to_string((needed >> 20) + 1) + " MiB (a window of " +
-                         std::to_string(2 * maximumSize + 6) + " planes of " + std::to_string(geometry.PlaneVoxels()) +
-                         " voxels); expected a larger limit or a smaller K");
+    const std::uint64_t needed = baseline + sic::StreamingWorkingBytes(geometry, maximumSize, 1, workUnits);
+    throw sic::ToolError(
+      "--memory-limit " + std::to_string(limit >> 20) + " MiB is too small to stream this image with K = " +
+      std::to_string(maximumSize) + ": it needs about " + std::to_string((needed >> 20) + 1) + " MiB (a window of " +
+      std::to_string(itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, 1, workUnits)) +
+      " planes of " + std::to_string(geometry.PlaneVoxels()) + " voxels); expected a larger limit or a smaller K");
   }
   if (!settings.Compress)
   {

@@ -54,6 +54,18 @@ Fill(SideReport & report, const itk::SmallIsoComponentDetail::SideTally & tally)
   report.Histogram = tally.GetHistogram();
 }
 
+itk::MultiThreaderBase::Pointer
+NewThreader(const FilterSettings & settings)
+{
+  auto threader = itk::MultiThreaderBase::New();
+  if (settings.Threads > 0)
+  {
+    threader->SetMaximumNumberOfThreads(static_cast<unsigned int>(settings.Threads));
+    threader->SetNumberOfWorkUnits(static_cast<unsigned int>(settings.Threads));
+  }
+  return threader;
+}
+
 template <typename TPixel>
 void
 RunStreamed(PlaneReader &                       input,
@@ -79,12 +91,7 @@ RunStreamed(PlaneReader &                       input,
     geometry.Dimension == 3
       ? itk::SmallIsoComponentDetail::BlockSummary::IndexType{ geometry.Size[0], geometry.Size[1], geometry.Size[2] }
       : itk::SmallIsoComponentDetail::BlockSummary::IndexType{ geometry.Size[0], 1, geometry.Size[1] };
-  auto threader = itk::MultiThreaderBase::New();
-  if (settings.Threads > 0)
-  {
-    threader->SetMaximumNumberOfThreads(static_cast<unsigned int>(settings.Threads));
-    threader->SetNumberOfWorkUnits(static_cast<unsigned int>(settings.Threads));
-  }
+  auto               threader = NewThreader(settings);
   const unsigned int workUnits = threader->GetNumberOfWorkUnits();
 
   Clock::duration                                      writing{};
@@ -210,11 +217,21 @@ ParseByteCount(const std::string & text, const std::string & option)
   return number << shift;
 }
 
+unsigned int
+StreamingWorkUnits(const FilterSettings & settings)
+{
+  return NewThreader(settings)->GetNumberOfWorkUnits();
+}
+
 std::uint64_t
-StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t slabPlanes)
+StreamingWorkingBytes(const VolumeGeometry & geometry,
+                      std::uint64_t          maximumSize,
+                      std::uint64_t          slabPlanes,
+                      unsigned int           workUnits)
 {
   const uint64_t planeVoxels = geometry.PlaneVoxels();
-  const uint64_t window = itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes);
+  const uint64_t window =
+    itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes, workUnits);
   // Per plane held: its voxels, and its run labelling (runs, components, their fates) at about a byte a
   // voxel, which is what smooth and moderately noisy volumes take (a run every eight voxels or
   // fewer); then the face layers of the three summaries a merge holds (8 bytes a run, so a byte a
@@ -225,12 +242,15 @@ StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize
 }
 
 std::uint64_t
-SlabPlanesForBudget(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t budget)
+SlabPlanesForBudget(const VolumeGeometry & geometry,
+                    std::uint64_t          maximumSize,
+                    std::uint64_t          budget,
+                    unsigned int           workUnits)
 {
   uint64_t best = 0;
   for (uint64_t planes = 1; planes <= geometry.Planes(); planes = planes < 8 ? planes + 1 : planes + planes / 4)
   {
-    if (StreamingWorkingBytes(geometry, maximumSize, planes) > budget)
+    if (StreamingWorkingBytes(geometry, maximumSize, planes, workUnits) > budget)
     {
       break;
     }

@@ -32,17 +32,27 @@ namespace sic
 std::uint64_t
 ParseByteCount(const std::string & text, const std::string & option);
 
+/** The work units the streaming mode runs with: --threads, or ITK's default. */
+unsigned int
+StreamingWorkUnits(const FilterSettings & settings);
+
 /** The bytes of memory the streaming mode holds for an image of \a geometry with slabs of
- * \a slabPlanes planes and components of at most \a maximumSize voxels: the input planes of the
- * window, their run labelling at about a byte a voxel (a run every eight voxels or fewer), the
- * summaries' face layers and the planes being read and written. */
+ * \a slabPlanes planes, components of at most \a maximumSize voxels and \a workUnits work units:
+ * the input planes of the window, their run labelling at about a byte a voxel (a run every eight
+ * voxels or fewer), the summaries' face layers and the planes being read and written. */
 std::uint64_t
-StreamingWorkingBytes(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t slabPlanes);
+StreamingWorkingBytes(const VolumeGeometry & geometry,
+                      std::uint64_t          maximumSize,
+                      std::uint64_t          slabPlanes,
+                      unsigned int           workUnits);
 
 /** The thickest slab (in planes, at most the image's depth) whose working memory fits in
  * \a budget bytes, or 0 when even slabs of one plane do not fit. */
 std::uint64_t
-SlabPlanesForBudget(const VolumeGeometry & geometry, std::uint64_t maximumSize, std::uint64_t budget);
+SlabPlanesForBudget(const VolumeGeometry & geometry,
+                    std::uint64_t          maximumSize,
+                    std::uint64_t          budget,
+                    unsigned int           workUnits);
 
 /** Where a streamed run writes: the staged paths of the image and the mask (empty: none). */
 struct StreamedOutputs
