@@ -98,7 +98,9 @@ namespace itk
  * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel;
  * GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes have
  * far fewer runs than voxels; a volume whose sides alternate at every voxel has one run
- * per voxel.
+ * per voxel. An image of at least 2^30 voxels is swept in slabs instead (see "Large images"
+ * below): its working memory is then a window of planes, a few hundredths of a byte per voxel
+ * on a deep image.
  *
  * The filter can run in place (InPlaceOn(), when input and output types are the same),
  * which saves the output buffer and the copy; it is off by default.
@@ -171,6 +173,36 @@ public:
   {
     return m_ExtraMemory.GetPeakInBytes();
   }
+  /** @} */
+
+  /** \name Large images: a sweep in slabs
+   * An image of two or three dimensions with at least SlabSweepMinimumSize voxels (2^30 by
+   * default) is labelled a slab of planes at a time along its last axis, as
+   * SmallIsoComponentStreamingImageFilter does, instead of all at once: the same output, mask and
+   * statistics (bit for bit), with working memory for a window of planes instead of 8 bytes per
+   * scanline run of the whole image. The filter chooses slabs of about 2^24 voxels (at most a sixteenth of the
+   * depth) and sweeps only
+   * when the window (StreamingSweep::WindowPlanes(), 2K + 4 + 3 slabs of planes with two work
+   * units or more) is at most half the image's depth; otherwise it labels the whole image.
+   * SetSlabThickness(T) with T > 0 sweeps every 2-D or 3-D image in slabs of T planes, whatever
+   * its size and K; 0 (the default) lets the filter decide as above. A SlabSweepMinimumSize
+   * larger than any image (NumericTraits<SizeValueType>::max()) keeps the whole-image labelling.
+   * GetSweptInSlabs() tells whether the last Update() swept in slabs, GetSweptSlabThickness()
+   * with how many planes a slab (0 when it did not). */
+  /** @{ */
+  itkSetMacro(SlabSweepMinimumSize, SizeValueType);
+  itkGetConstMacro(SlabSweepMinimumSize, SizeValueType);
+  itkSetMacro(SlabThickness, SizeValueType);
+  itkGetConstMacro(SlabThickness, SizeValueType);
+  itkGetConstMacro(SweptSlabThickness, SizeValueType);
+  bool
+  GetSweptInSlabs() const
+  {
+    return m_SweptSlabThickness > 0;
+  }
+  /** The default of SlabSweepMinimumSize, and the voxels of a slab the filter chooses. */
+  static constexpr SizeValueType DefaultSlabSweepMinimumSize = 1073741824; // 2^30
+  static constexpr SizeValueType ChosenSlabVoxels = 16777216;              // 2^24
   /** @} */
 
   /** \name Working memory kept between updates
@@ -310,6 +342,15 @@ private:
              BelowGrouping *              joinFlipped,
              SizeValueType                heldBytes);
 
+  /** Planes per slab for the sweep in slabs, or 0 to label the whole image at once. */
+  SizeValueType
+  ChooseSlabThickness() const;
+
+  /** The whole update as a sweep in slabs of \a slabPlanes planes (SmallIsoComponentDetail::
+   * StreamingSweep) over the input's buffer, into the output's (which may be the same). */
+  void
+  SweepInSlabs(SizeValueType slabPlanes);
+
   /** Whether the above pass flips components for the below pass. */
   bool
   AbovePassFlips() const;
@@ -324,6 +365,9 @@ private:
   SizeValueType                       m_NumberOfModifiedVoxels{ 0 };
   SizeValueType                       m_NumberOfUnrepairableVoxels{ 0 };
   SmallIsoComponentDetail::PeakMemory m_ExtraMemory;
+  SizeValueType                       m_SlabSweepMinimumSize{ DefaultSlabSweepMinimumSize };
+  SizeValueType                       m_SlabThickness{ 0 };
+  SizeValueType                       m_SweptSlabThickness{ 0 };
   /** The labelling, kept between updates for its arrays' memory. */
   std::unique_ptr<SmallIsoComponentDetail::RunLabeling> m_Labeling;
 };

@@ -23,6 +23,7 @@
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkSmallIsoComponentSizeCounter.h"
 #include "itkSmallIsoComponentStreamingStores.h"
+#include "itkSmallIsoComponentStreamingSweep.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include <algorithm>
 #include <cstring>
@@ -107,15 +108,24 @@ template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
+  m_SweptSlabThickness = this->ChooseSlabThickness();
+  if (m_SweptSlabThickness > 0)
+  {
+    this->AllocateOutputs();
+    this->VerifyBufferedRegions();
+    this->ResetStatistics();
+    this->SweepInSlabs(m_SweptSlabThickness);
+    return;
+  }
   // The parallel steps are short: one team of threads takes them all, instead of waking
   // the threader's pool for each. It is formed first, so that its helpers wake up while
   // the outputs are allocated.
-  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   WorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
   this->AllocateOutputs();
   this->VerifyBufferedRegions();
   this->ResetStatistics();
-  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
 
   // The components of both sides, labelled over the lines' runs.
   const auto & size = this->GetOutput()->GetBufferedRegion().GetSize();
@@ -149,6 +159,117 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
   this->RemoveBelow(team, labeling, removedBelow, above.Removed);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ChooseSlabThickness() const
+{
+  if constexpr (ImageDimension != 2 && ImageDimension != 3)
+  {
+    return 0;
+  }
+  const auto &        region = this->GetOutput()->GetRequestedRegion();
+  const SizeValueType voxels = region.GetNumberOfPixels();
+  const SizeValueType depth = region.GetSize(ImageDimension - 1);
+  if (voxels == 0)
+  {
+    return 0;
+  }
+  if (m_SlabThickness > 0)
+  {
+    return std::min(m_SlabThickness, depth);
+  }
+  if (voxels < m_SlabSweepMinimumSize)
+  {
+    return 0;
+  }
+  const SizeValueType planeVoxels = voxels / depth;
+  // About ChosenSlabVoxels a slab, and at least 16 slabs.
+  const SizeValueType slab = std::max<SizeValueType>(1, std::min(ChosenSlabVoxels / planeVoxels, depth / 16));
+  const uint64_t      window = SmallIsoComponentDetail::StreamingSweep<OutputPixelType>::WindowPlanes(
+    m_EffectiveMaximumComponentSize, slab, this->GetNumberOfWorkUnits());
+  return 2 * window <= depth ? slab : 0;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SweepInSlabs(SizeValueType slabPlanes)
+{
+  using SweepType = SmallIsoComponentDetail::StreamingSweep<OutputPixelType>;
+  const auto &                        size = this->GetOutput()->GetBufferedRegion().GetSize();
+  constexpr unsigned int              last = ImageDimension - 1;
+  const uint64_t                      depth = size[last];
+  const uint64_t                      planeVoxels = this->GetOutput()->GetBufferedRegion().GetNumberOfPixels() / depth;
+  const typename SweepType::IndexType box = ImageDimension == 3
+                                              ? typename SweepType::IndexType{ size[0], size[1], size[last] }
+                                              : typename SweepType::IndexType{ size[0], 1, size[last] };
+  const InputPixelType *              in = this->GetInput()->GetBufferPointer();
+  OutputPixelType *                   out = this->GetOutput()->GetBufferPointer();
+  MaskPixelType * mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  // The sweep copies each slab it takes, and gives out a plane only after taking it: in place,
+  // the planes written are ones the sweep has taken already.
+  SweepType                    sweep(box,
+                  m_IsoValue,
+                  m_EffectiveMaximumComponentSize,
+                  m_Side,
+                  m_FullyConnected,
+                  slabPlanes,
+                  mask != nullptr,
+                  this->GetMultiThreader(),
+                  this->GetNumberOfWorkUnits(),
+                  [&](uint64_t plane, const OutputPixelType * values, const uint8_t * planeMask) {
+                    std::copy(values, values + planeVoxels, out + plane * planeVoxels);
+                    if (mask != nullptr)
+                    {
+                      // The sweep marks voxels that got the fallback value in the upper bits.
+                      std::transform(planeMask, planeMask + planeVoxels, mask + plane * planeVoxels, [](uint8_t m) {
+                        return static_cast<MaskPixelType>(m & 3);
+                      });
+                    }
+                    this->UpdateProgress(static_cast<float>(plane + 1) / static_cast<float>(depth));
+                  });
+  std::vector<OutputPixelType> converted;
+  for (uint64_t first = 0; first < depth; first += slabPlanes)
+  {
+    const uint64_t         planes = std::min<uint64_t>(slabPlanes, depth - first);
+    const InputPixelType * from = in + first * planeVoxels;
+    if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
+    {
+      sweep.Push(from, planes);
+    }
+    else
+    {
+      converted.resize(planes * planeVoxels);
+      std::transform(from, from + converted.size(), converted.begin(), [](InputPixelType v) {
+        return static_cast<OutputPixelType>(v);
+      });
+      sweep.Push(converted.data(), planes);
+    }
+    if (this->GetAbortGenerateData())
+    {
+      ProcessAborted abort(__FILE__, __LINE__);
+      abort.SetDescription("SmallIsoComponentImageFilter: aborted by the user");
+      throw abort;
+    }
+  }
+  sweep.Finish();
+
+  const SmallIsoComponentDetail::ComponentTally & tally = sweep.GetTally();
+  for (const SideEnum side : { SideEnum::Above, SideEnum::Below })
+  {
+    const SmallIsoComponentDetail::SideTally & counts = side == SideEnum::Above ? tally.Above : tally.Below;
+    SideStatistics &                           statistics = this->StatisticsOf(side);
+    statistics.Components = counts.GetComponents();
+    statistics.RemovedComponents = counts.GetRemovedComponents();
+    statistics.RemovedVoxels = counts.GetRemovedVoxels();
+    const auto histogram = counts.GetHistogram();
+    statistics.Histogram = ComponentSizeHistogramType(histogram.begin(), histogram.end());
+  }
+  m_NumberOfModifiedVoxels = tally.ModifiedVoxels;
+  m_NumberOfUnrepairableVoxels = tally.UnrepairableVoxels + sweep.GetNumberOfFallbackVoxels();
+  m_ExtraMemory.Hold(sweep.GetPeakMemoryInBytes() + converted.capacity() * sizeof(OutputPixelType));
+  this->UpdateProgress(1.0f);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -492,6 +613,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream 
      << m_BelowStatistics.RemovedVoxels << std::endl;
   os << indent << "NumberOfModifiedVoxels: " << m_NumberOfModifiedVoxels << std::endl;
   os << indent << "NumberOfUnrepairableVoxels: " << m_NumberOfUnrepairableVoxels << std::endl;
+  os << indent << "SlabSweepMinimumSize: " << m_SlabSweepMinimumSize << std::endl;
+  os << indent << "SlabThickness: " << m_SlabThickness << std::endl;
+  os << indent << "SweptSlabThickness: " << m_SweptSlabThickness << std::endl;
   os << indent << "PeakExtraMemoryInBytes: " << this->GetPeakExtraMemoryInBytes() << std::endl;
 }
 } // end namespace itk

@@ -190,12 +190,13 @@ private:
   PlaneCallback       m_Emit;
 
   std::vector<TPixel> m_Pending;
-  /** The values buffer of a slab dropped from the window, kept for the next slab: a fresh one would
-   * cost a page fault every few kilobytes. */
-  std::vector<TPixel>               m_SpareValues;
-  uint64_t                          m_PlanesIn{ 0 };
-  uint64_t                          m_NextPlaneOut{ 0 };
-  std::deque<std::unique_ptr<Slab>> m_Window;
+  /** A slab dropped from the window, kept (with its buffer and labelling arrays) for the next
+   * slab. */
+  static constexpr std::size_t       MaximumSpareSlabs = 1;
+  std::vector<std::unique_ptr<Slab>> m_SpareSlabs;
+  uint64_t                           m_PlanesIn{ 0 };
+  uint64_t                           m_NextPlaneOut{ 0 };
+  std::deque<std::unique_ptr<Slab>>  m_Window;
   /** The last slab taken: labelled, merged when the next one is taken (or at Finish()). */
   std::unique_ptr<Slab>         m_Labelled;
   BackgroundTask                m_Labeller;

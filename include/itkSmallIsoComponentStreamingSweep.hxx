@@ -62,6 +62,21 @@ struct StreamingSweep<TPixel>::Slab
   /** The slab's own summary, from its labelling until it is merged. */
   std::unique_ptr<BlockSummary> Summary;
 
+  /** Empties the slab for its next planes; the arrays keep their memory. */
+  void
+  Clear()
+  {
+    Begin = 0;
+    End = 0;
+    Values.clear();
+    Tracks.clear();
+    CandidateBegin.clear();
+    Candidates.clear();
+    Unsettled.clear();
+    Repairs.clear();
+    Summary.reset();
+  }
+
   SizeValueType
   GetMemoryInBytes() const
   {
@@ -180,13 +195,25 @@ template <typename TPixel>
 void
 StreamingSweep<TPixel>::ProcessSlab()
 {
-  auto     slab = std::make_unique<Slab>();
-  Slab &   s = *slab;
-  uint64_t planes = m_Pending.size() / m_PlaneVoxels;
+  // A slab dropped from the window is taken again, with its arrays: fresh ones would cost a
+  // page fault every few kilobytes.
+  std::unique_ptr<Slab> slab;
+  if (m_SpareSlabs.empty())
+  {
+    slab = std::make_unique<Slab>();
+  }
+  else
+  {
+    slab = std::move(m_SpareSlabs.back());
+    m_SpareSlabs.pop_back();
+    slab->Clear();
+  }
+  Slab &         s = *slab;
+  const uint64_t planes = m_Pending.size() / m_PlaneVoxels;
   s.Begin = m_PlanesIn - planes;
   s.End = m_PlanesIn;
+  // The pending planes become the slab's; the slab's old buffer takes the next ones.
   s.Values.swap(m_Pending);
-  m_Pending.swap(m_SpareValues);
   m_Pending.clear();
   m_Pending.reserve(m_SlabPlanes * m_PlaneVoxels);
 
@@ -513,10 +540,9 @@ StreamingSweep<TPixel>::EmitReadyPlanes()
   // plane may read the slab's last plane.
   while (!m_Window.empty() && (m_Window.front()->End < m_NextPlaneOut || m_NextPlaneOut == m_Size[2]))
   {
-    auto & values = m_Window.front()->Values;
-    if (m_NextPlaneOut < m_Size[2] && values.capacity() > m_SpareValues.capacity())
+    if (m_NextPlaneOut < m_Size[2] && m_SpareSlabs.size() < MaximumSpareSlabs)
     {
-      m_SpareValues.swap(values);
+      m_SpareSlabs.push_back(std::move(m_Window.front()));
     }
     m_Window.pop_front();
   }
@@ -527,14 +553,17 @@ auto
 StreamingSweep<TPixel>::GetHeldMemory() const -> HeldMemory
 {
   HeldMemory held;
-  held.Bytes = (m_Pending.capacity() + m_SpareValues.capacity()) * sizeof(TPixel) +
-               m_OutputPlane.capacity() * sizeof(TPixel) + m_MaskPlane.capacity() +
-               (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
+  held.Bytes = m_Pending.capacity() * sizeof(TPixel) + m_OutputPlane.capacity() * sizeof(TPixel) +
+               m_MaskPlane.capacity() + (m_Summary ? m_Summary->GetMemoryInBytes() : 0);
   held.Planes = m_Pending.size() / m_PlaneVoxels;
   for (const auto & slab : m_Window)
   {
     held.Bytes += slab->GetMemoryInBytes();
     held.Planes += slab->End - slab->Begin;
+  }
+  for (const auto & slab : m_SpareSlabs)
+  {
+    held.Bytes += slab->GetMemoryInBytes();
   }
   if (m_Labelled)
   {

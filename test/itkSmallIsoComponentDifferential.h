@@ -31,7 +31,8 @@ constexpr unsigned int MaximumReportedFailures = 3;
 
 /** Compares the filter with the reference on \a numberOfVolumes random volumes from
  * \a firstSeed on: every output bit, every mask voxel and every statistic, for 1, 2 and 7
- * work units (7 without a mask: the statistics must not depend on it). */
+ * work units (7 without a mask: the statistics must not depend on it), and swept in slabs
+ * of a thickness that varies with the seed (2-D and 3-D). */
 template <typename TInputPixel, typename TOutputPixel, unsigned int VDimension>
 void
 ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, bool large = false)
@@ -66,6 +67,36 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
         ++failures;
         break;
       }
+    }
+    // The sweep in slabs (2-D and 3-D images): slabs of 1 plane to the whole depth, one and two
+    // work units, in place every third volume when the pixel types allow.
+    const SizeValueType depth = c.Input->GetLargestPossibleRegion().GetSize(VDimension - 1);
+    const SizeValueType slab = 1 + seed % (depth + 1);
+    const unsigned int  slabWorkUnits = 1 + seed % 2;
+    const bool          inPlace = seed % 3 == 0;
+    // In place, the input's buffer becomes the output's: the filter gets a copy.
+    auto input = InputImageType::New();
+    input->SetRegions(c.Input->GetLargestPossibleRegion());
+    input->Allocate();
+    std::copy(c.Input->GetBufferPointer(),
+              c.Input->GetBufferPointer() + c.Input->GetLargestPossibleRegion().GetNumberOfPixels(),
+              input->GetBufferPointer());
+    const auto swept = RunFilter<InputImageType, OutputImageType>(
+      input.GetPointer(), c.Settings, slabWorkUnits, inPlace, seed % 4 != 1, slab);
+    if (swept->GetSweptInSlabs() != (VDimension == 2 || VDimension == 3))
+    {
+      ADD_FAILURE() << c.Description << ": swept in slabs " << swept->GetSweptInSlabs() << " with slab thickness "
+                    << slab;
+      ++failures;
+      continue;
+    }
+    const std::string differences =
+      DifferencesFromReference(swept.GetPointer(), expected, c.Settings.MaximumComponentSize);
+    if (!differences.empty())
+    {
+      ADD_FAILURE() << c.Description << " in slabs of " << slab << " planes, workUnits=" << slabWorkUnits
+                    << (inPlace ? ", in place" : "") << ":" << differences;
+      ++failures;
     }
   }
   std::cout << volumes << " volumes, " << withRemovedAbove << " with removed above components, " << withRemovedBelow

@@ -37,17 +37,30 @@ using FilterType = itk::SmallIsoComponentImageFilter<ImageType>;
 using StreamingFilterType = itk::SmallIsoComponentStreamingImageFilter<ImageType>;
 using BaseType = itk::SmallIsoComponentImageFilterBase<ImageType>;
 
-/** 16^3 voxels of uniform noise: with σ = 128 and K = 20, thousands of small components. */
+/** 16 x 16 x \a depth voxels of uniform noise: with σ = 128 and K = 20, thousands of small
+ * components. */
 ImageType::Pointer
-MakeSpeckledImage()
+MakeSpeckledImage(itk::SizeValueType depth = 16, uint32_t seed = 12345)
 {
-  RandomSource         random(12345);
-  std::vector<uint8_t> values(16 * 16 * 16);
+  RandomSource         random(seed);
+  std::vector<uint8_t> values(16 * 16 * depth);
   for (uint8_t & v : values)
   {
     v = static_cast<uint8_t>(random.Bits() >> 24);
   }
-  return MakeImage<uint8_t, 3>({ 16, 16, 16 }, values);
+  return MakeImage<uint8_t, 3>({ 16, 16, depth }, values);
+}
+
+/** Records the progress of every progress event of \a filter in \a progress. */
+void
+RecordProgress(FilterType * filter, std::vector<float> & progress)
+{
+  auto observer = itk::CStyleCommand::New();
+  observer->SetClientData(&progress);
+  observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void * clientData) {
+    static_cast<std::vector<float> *>(clientData)->push_back(static_cast<FilterType *>(caller)->GetProgress());
+  });
+  filter->AddObserver(itk::ProgressEvent(), observer);
 }
 
 /** What Print() writes for \a filter, with the same parameters set through the base class. */
@@ -115,6 +128,9 @@ TEST(SmallIsoComponentInterface, Defaults)
     EXPECT_NE(filter->GetRemovedMask(), nullptr);
   }
   EXPECT_TRUE(inMemory->CanRunInPlace());
+  EXPECT_EQ(inMemory->GetSlabThickness(), 0u);
+  EXPECT_EQ(inMemory->GetSlabSweepMinimumSize(), itk::SizeValueType{ 1 } << 30);
+  EXPECT_FALSE(inMemory->GetSweptInSlabs());
   EXPECT_STREQ(inMemory->GetNameOfClass(), "SmallIsoComponentImageFilter");
   EXPECT_FALSE(streaming->CanRunInPlace());
   EXPECT_EQ(streaming->GetSlabThickness(), 8u);
@@ -330,37 +346,101 @@ TEST(SmallIsoComponentInterface, MissingInputIsAnError)
 
 TEST(SmallIsoComponentInterface, ProgressReachesOne)
 {
-  auto               filter = FilterType::New();
-  std::vector<float> progress;
-  auto               observer = itk::CStyleCommand::New();
-  observer->SetClientData(&progress);
-  observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void * clientData) {
-    static_cast<std::vector<float> *>(clientData)->push_back(static_cast<FilterType *>(caller)->GetProgress());
-  });
-  filter->AddObserver(itk::ProgressEvent(), observer);
-  filter->SetInput(MakeSpeckledImage());
-  filter->SetIsoValue(128);
-  filter->Update();
-  ASSERT_GE(progress.size(), 3u);
-  EXPECT_EQ(progress.back(), 1.0f);
-  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end())) << "progress went backwards";
+  // The whole image at once, and in slabs of 3 planes.
+  for (const itk::SizeValueType slab : { 0u, 3u })
+  {
+    auto               filter = FilterType::New();
+    std::vector<float> progress;
+    RecordProgress(filter, progress);
+    filter->SetInput(MakeSpeckledImage());
+    filter->SetIsoValue(128);
+    filter->SetSlabThickness(slab);
+    filter->Update();
+    EXPECT_EQ(filter->GetSweptInSlabs(), slab > 0);
+    EXPECT_EQ(filter->GetSweptSlabThickness(), slab);
+    ASSERT_GE(progress.size(), 3u);
+    EXPECT_EQ(progress.back(), 1.0f);
+    EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end())) << "progress went backwards";
+  }
 }
 
 TEST(SmallIsoComponentInterface, AbortOnFirstProgressEvent)
 {
-  auto filter = FilterType::New();
-  auto observer = itk::CStyleCommand::New();
-  observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void *) {
-    static_cast<FilterType *>(caller)->AbortGenerateDataOn();
-  });
-  const unsigned long tag = filter->AddObserver(itk::ProgressEvent(), observer);
-  filter->SetInput(MakeSpeckledImage());
-  filter->SetIsoValue(128);
-  EXPECT_THROW(filter->Update(), itk::ProcessAborted);
+  // The whole image at once, and in slabs of 3 planes with the labelling on a second thread.
+  for (const itk::SizeValueType slab : { 0u, 3u })
+  {
+    auto filter = FilterType::New();
+    auto observer = itk::CStyleCommand::New();
+    observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void *) {
+      static_cast<FilterType *>(caller)->AbortGenerateDataOn();
+    });
+    const unsigned long tag = filter->AddObserver(itk::ProgressEvent(), observer);
+    filter->SetInput(MakeSpeckledImage());
+    filter->SetIsoValue(128);
+    filter->SetSlabThickness(slab);
+    filter->SetNumberOfWorkUnits(2);
+    EXPECT_THROW(filter->Update(), itk::ProcessAborted);
 
-  // Without the observer the next update runs to the end.
-  filter->RemoveObserver(tag);
-  filter->Modified();
-  EXPECT_NO_THROW(filter->Update());
-  EXPECT_EQ(filter->GetProgress(), 1.0f);
+    // Without the observer the next update runs to the end.
+    filter->RemoveObserver(tag);
+    filter->Modified();
+    EXPECT_NO_THROW(filter->Update());
+    EXPECT_EQ(filter->GetProgress(), 1.0f);
+  }
+}
+
+namespace
+{
+FilterType::Pointer
+RunOnTallImage(const ImageType * input, itk::SizeValueType minimumSize, itk::SizeValueType K, unsigned int workUnits)
+{
+  auto filter = FilterType::New();
+  filter->SetInput(input);
+  filter->SetIsoValue(128);
+  filter->SetMaximumComponentSize(K);
+  filter->SetSlabSweepMinimumSize(minimumSize);
+  filter->SetNumberOfWorkUnits(workUnits);
+  filter->GenerateRemovedMaskOn();
+  filter->Update();
+  return filter;
+}
+} // namespace
+
+TEST(SmallIsoComponentInterface, SweepInSlabsOnlyForLargeImagesAndAThinWindow)
+{
+  // Deep enough for a sweep in slabs with small K.
+  const auto input = MakeSpeckledImage(2000, 777);
+  for (const unsigned int workUnits : { 1u, 2u })
+  {
+    const auto whole = RunOnTallImage(input, itk::NumericTraits<itk::SizeValueType>::max(), 3, workUnits);
+    EXPECT_FALSE(whole->GetSweptInSlabs());
+    EXPECT_EQ(whole->GetSweptSlabThickness(), 0u);
+    // The default minimum is far above 512,000 voxels.
+    EXPECT_FALSE(RunOnTallImage(input, FilterType::DefaultSlabSweepMinimumSize, 3, workUnits)->GetSweptInSlabs());
+    // Above the minimum: slabs of a sixteenth of the depth (the plane is far below 2^24 voxels).
+    const auto swept = RunOnTallImage(input, 1, 3, workUnits);
+    EXPECT_TRUE(swept->GetSweptInSlabs());
+    EXPECT_EQ(swept->GetSweptSlabThickness(), 125u);
+    EXPECT_GT(swept->GetNumberOfRemovedComponents(SideEnum::Above), 1000u);
+    const auto n = input->GetLargestPossibleRegion().GetNumberOfPixels();
+    EXPECT_TRUE(std::equal(whole->GetOutput()->GetBufferPointer(),
+                           whole->GetOutput()->GetBufferPointer() + n,
+                           swept->GetOutput()->GetBufferPointer()));
+    EXPECT_TRUE(std::equal(whole->GetRemovedMask()->GetBufferPointer(),
+                           whole->GetRemovedMask()->GetBufferPointer() + n,
+                           swept->GetRemovedMask()->GetBufferPointer()));
+    for (const SideEnum side : { SideEnum::Above, SideEnum::Below })
+    {
+      EXPECT_EQ(swept->GetNumberOfComponents(side), whole->GetNumberOfComponents(side));
+      EXPECT_EQ(swept->GetNumberOfRemovedComponents(side), whole->GetNumberOfRemovedComponents(side));
+      EXPECT_EQ(swept->GetNumberOfRemovedVoxels(side), whole->GetNumberOfRemovedVoxels(side));
+      EXPECT_EQ(swept->GetComponentSizeHistogram(side), whole->GetComponentSizeHistogram(side));
+    }
+    EXPECT_EQ(swept->GetNumberOfModifiedVoxels(), whole->GetNumberOfModifiedVoxels());
+    EXPECT_EQ(swept->GetNumberOfUnrepairableVoxels(), whole->GetNumberOfUnrepairableVoxels());
+    // The sweep holds a window of planes, not 8 bytes per run of the whole image.
+    EXPECT_LT(swept->GetPeakExtraMemoryInBytes(), whole->GetPeakExtraMemoryInBytes());
+    // A window of 2K + 4 + 3 slabs of planes deeper than half the image: the whole image.
+    EXPECT_FALSE(RunOnTallImage(input, 1, 400, workUnits)->GetSweptInSlabs());
+  }
 }

@@ -442,9 +442,11 @@ RunFilter(const TInputImage * input,
           const Parameters &  settings,
           unsigned int        workUnits = 1,
           bool                inPlace = false,
-          bool                generateMask = true)
+          bool                generateMask = true,
+          SizeValueType       slabThickness = 0)
 {
   auto filter = SmallIsoComponentImageFilter<TInputImage, TOutputImage>::New();
+  filter->SetSlabThickness(slabThickness);
   filter->SetGenerateRemovedMask(generateMask);
   filter->SetInput(input);
   filter->SetIsoValue(settings.IsoValue);

@@ -527,6 +527,7 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   report.ModifiedVoxels = filter->GetNumberOfModifiedVoxels();
   report.UnrepairableVoxels = filter->GetNumberOfUnrepairableVoxels();
   report.PeakExtraBytes = filter->GetPeakExtraMemoryInBytes();
+  report.SlabPlanes = filter->GetSweptSlabThickness();
   report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
   return report;
 }

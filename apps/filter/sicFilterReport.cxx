@@ -111,6 +111,10 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
     }
     text << ".";
   }
+  else if (report.SlabPlanes > 0)
+  {
+    text << " Swept in memory in slabs of " << report.SlabPlanes << (report.SlabPlanes == 1 ? " plane." : " planes.");
+  }
   if (report.PeakResidentBytes > 0)
   {
     text << " Peak memory " << megabytes(report.PeakResidentBytes) << ".";
@@ -208,9 +212,9 @@ WriteStatisticsJson(std::ostream &         out,
   {
     json.Null();
   }
+  json.Key("slab_planes").Number(report.SlabPlanes);
   if (report.Streaming)
   {
-    json.Key("slab_planes").Number(report.SlabPlanes);
     json.Key("read_seconds").Number(report.ReadSeconds);
     json.Key("write_seconds").Number(report.WriteSeconds);
   }

@@ -96,7 +96,9 @@ struct FilterReport
   double FilterSeconds{ 0.0 };
   double TotalSeconds{ 0.0 };
   /** Streamed plane by plane (--memory-limit, or an input too large for memory), in slabs of
-   * SlabPlanes planes under MemoryLimit bytes; then the time spent reading and writing. */
+   * SlabPlanes planes under MemoryLimit bytes; then the time spent reading and writing. In memory,
+   * SlabPlanes is the thickness of the slabs a large image was swept in, 0 for the whole image at
+   * once. */
   bool          Streaming{ false };
   std::uint64_t MemoryLimit{ 0 };
   std::uint64_t SlabPlanes{ 0 };

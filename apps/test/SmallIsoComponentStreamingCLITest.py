@@ -89,6 +89,9 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         self.assertSameStatistics(streamed, reference)
         self.assertSameImages(self.path("streamed.mha"), self.path("memory.mha"))
         self.assertLess(streamed["statistics"]["slab_planes"], 256)
+        # 256^3 voxels are far below the size swept in slabs in memory.
+        self.assertEqual(reference["statistics"]["slab_planes"], 0)
+        self.assertEqual(reference["statistics"]["mode"], "in-memory")
         self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
         for key in ("read_seconds", "write_seconds"):
             self.assertGreaterEqual(streamed["statistics"][key], 0.0)
