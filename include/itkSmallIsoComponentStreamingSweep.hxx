@@ -412,11 +412,13 @@ template <typename TPixel>
 auto
 StreamingSweep<TPixel>::SlabOf(uint64_t z) -> Slab &
 {
-  for (auto & slab : m_Window)
+  // The window's slabs are consecutive, each of SlabPlanes planes but the image's last.
+  if (!m_Window.empty() && z >= m_Window.front()->Begin)
   {
-    if (z >= slab->Begin && z < slab->End)
+    const uint64_t index = (z - m_Window.front()->Begin) / m_SlabPlanes;
+    if (index < m_Window.size() && z < m_Window[index]->End)
     {
-      return *slab;
+      return *m_Window[index];
     }
   }
   itkGenericExceptionMacro("StreamingSweep: plane " << z << " is not in the window");
