@@ -29,9 +29,10 @@ case "$kind" in
     flags="-fsanitize=thread"
     sanitizer=thread
     # The tests that run work units in parallel: the differential tests (1, 2 and 7 work
-    # units per volume), the invariants (the output for several numbers of work units) and the
-    # work team.
-    selection=(-R 'SmallIsoComponent(Differential|WorkTeam|Invariants)\.' --timeout 3600)
+    # units per volume, and the sweep in slabs with its labelling thread), the invariants (the
+    # output for several numbers of work units), the work team, and the streaming sweep and
+    # filter (two work units: a slab labelled while the one before is merged).
+    selection=(-R 'SmallIsoComponent(Differential|WorkTeam|Invariants|StreamingSweep|StreamingImageFilter)\.' --timeout 3600)
     targets=SmallIsoComponentGTestDriver
     ;;
   *)
