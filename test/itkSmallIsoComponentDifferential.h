@@ -68,11 +68,12 @@ ExpectFilterMatchesReference(uint32_t firstSeed, unsigned int numberOfVolumes, b
         break;
       }
     }
-    // The sweep in slabs (2-D and 3-D images): slabs of 1 plane to the whole depth, one and two
-    // work units, in place every third volume when the pixel types allow.
+    // The sweep in slabs (2-D and 3-D images): slabs of 1 plane to the whole depth, one to three
+    // work units (with two or more, the labelling thread; with three, it shares its work), in place
+    // every third volume when the pixel types allow.
     const SizeValueType depth = c.Input->GetLargestPossibleRegion().GetSize(VDimension - 1);
     const SizeValueType slab = 1 + seed % (depth + 1);
-    const unsigned int  slabWorkUnits = 1 + seed % 2;
+    const unsigned int  slabWorkUnits = 1 + (seed / 3) % 3;
     const bool          inPlace = seed % 3 == 0;
     // In place, the input's buffer becomes the output's: the filter gets a copy.
     auto input = InputImageType::New();
