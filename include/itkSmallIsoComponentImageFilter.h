@@ -210,7 +210,8 @@ public:
    * GetPeakExtraMemoryInBytes()) are kept after Update(), so that a pipeline that runs
    * the filter again on an image of the same size, or a smaller one, takes no fresh memory
    * (on Linux, first touching fresh memory costs more than the filter's own work on dense
-   * volumes). ReleaseWorkingMemory() gives them back; destroying the filter does too.
+   * volumes). ReleaseWorkingMemory() gives them back; destroying the filter does too. An update
+   * that sweeps in slabs uses none of them and keeps nothing of its own.
    * GetWorkingMemoryInBytes() tells how much is kept now. */
   /** @{ */
   void
