@@ -361,6 +361,10 @@ private:
   void
   EndPhase(ProgressTransformer & progress);
 
+  /** Throws ProcessAborted when an abort was asked for (AbortGenerateDataOn()). */
+  void
+  StopIfAborted() const;
+
   SideStatistics                      m_AboveStatistics;
   SideStatistics                      m_BelowStatistics;
   SizeValueType                       m_NumberOfModifiedVoxels{ 0 };

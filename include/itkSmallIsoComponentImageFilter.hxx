@@ -222,10 +222,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SweepInSlabs(SizeValueT
                     std::copy(values, values + planeVoxels, out + plane * planeVoxels);
                     if (mask != nullptr)
                     {
-                      // The sweep marks voxels that got the fallback value in the upper bits.
-                      std::transform(planeMask, planeMask + planeVoxels, mask + plane * planeVoxels, [](uint8_t m) {
-                        return static_cast<MaskPixelType>(m & 3);
-                      });
+                      SmallIsoComponentDetail::CopyRemovedMask(planeMask, planeVoxels, mask + plane * planeVoxels);
                     }
                     this->UpdateProgress(static_cast<float>(plane + 1) / static_cast<float>(depth));
                   });
@@ -246,12 +243,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SweepInSlabs(SizeValueT
       });
       sweep.Push(converted.data(), planes);
     }
-    if (this->GetAbortGenerateData())
-    {
-      ProcessAborted abort(__FILE__, __LINE__);
-      abort.SetDescription("SmallIsoComponentImageFilter: aborted by the user");
-      throw abort;
-    }
+    this->StopIfAborted();
   }
   sweep.Finish();
 
@@ -591,6 +583,13 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EndPhase(ProgressTransformer & progress)
 {
   progress.GetProcessObject()->UpdateProgress(1.0f);
+  this->StopIfAborted();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::StopIfAborted() const
+{
   if (this->GetAbortGenerateData())
   {
     ProcessAborted abort(__FILE__, __LINE__);

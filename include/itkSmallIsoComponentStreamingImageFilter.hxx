@@ -123,8 +123,7 @@ SmallIsoComponentStreamingImageFilter<TInputImage, TOutputImage>::KeepReadyPlane
   if (mask != nullptr)
   {
     ready.Mask.resize(planeVoxels);
-    // The sweep marks voxels that got the fallback value in the upper bits.
-    std::transform(mask, mask + planeVoxels, ready.Mask.begin(), [](uint8_t m) { return static_cast<uint8_t>(m & 3); });
+    SmallIsoComponentDetail::CopyRemovedMask(mask, planeVoxels, ready.Mask.data());
   }
   m_ReadyBytes += BytesOf(ready);
   m_Ready.push_back(std::move(ready));

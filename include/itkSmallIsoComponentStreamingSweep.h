@@ -210,6 +210,18 @@ private:
   std::vector<uint8_t>          m_MaskPlane;
 };
 
+/** Copies \a voxels values of a mask plane as StreamingSweep gives it into \a out as the filter's
+ * mask values (0, 1 or 2), without the marks of the fallback value. */
+template <typename TMaskPixel>
+void
+CopyRemovedMask(const uint8_t * planeMask, std::size_t voxels, TMaskPixel * out)
+{
+  for (std::size_t v = 0; v < voxels; ++v)
+  {
+    out[v] = static_cast<TMaskPixel>(planeMask[v] & 3);
+  }
+}
+
 /** Filters the box of \a extent voxels at \a values (x fastest) as if it were the whole image, and
  * writes the output and the mask (as StreamingSweep gives it, fallback bits included; nullptr for
  * none) of its part [cropBegin, cropEnd), x fastest. When the box reaches BoxHalo() voxels beyond

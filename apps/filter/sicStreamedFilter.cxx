@@ -112,11 +112,7 @@ RunStreamed(PlaneReader &                       input,
       image.Write(values, 1);
       if (mask)
       {
-        // The sweep marks voxels that got the fallback value in the upper bits.
-        for (std::size_t v = 0; v < maskPlane.size(); ++v)
-        {
-          maskPlane[v] = planeMask[v] & 3;
-        }
+        itk::SmallIsoComponentDetail::CopyRemovedMask(planeMask, maskPlane.size(), maskPlane.data());
         mask->Write(maskPlane.data(), 1);
       }
       writing += Clock::now() - start;
