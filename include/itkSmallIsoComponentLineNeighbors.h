@@ -115,6 +115,14 @@ public:
     this->ForEach<false>(position, function);
   }
 
+  /** The most lines between a line and the earliest of its earlier neighbours (0 when
+   * lines have no neighbours): how far back a walk over the lines in order reaches. */
+  SizeValueType
+  GetFarthestEarlier() const
+  {
+    return m_FarthestEarlier;
+  }
+
   /** Calls function(neighbor) for every neighbouring line of \a position inside the
    * image. */
   template <typename TFunction>
@@ -203,6 +211,7 @@ private:
   std::vector<SizeValueType> m_Stride;
   bool                       m_FullyConnected{ false };
   bool                       m_FaceIn3D{ false };
+  SizeValueType              m_FarthestEarlier{ 0 };
   /** Under full connectivity: the neighbours with lower line numbers, and all. */
   std::vector<Neighbor> m_Earlier;
   std::vector<Neighbor> m_All;

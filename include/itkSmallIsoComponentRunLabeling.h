@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace itk
@@ -51,9 +52,14 @@ namespace SmallIsoComponentDetail
  * so one pass in run order turns parents into dense component numbers, and the result
  * does not depend on the number of slabs.
  *
+ * Two neighbouring lines are linked by a merge of their runs, or, where runs are dense,
+ * from the lines' boundary bits (a bit per voxel where a run starts), which finds the
+ * touching pairs by bit counts without a branch per run.
+ *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
- * component), 9 bytes per line, 9 bytes per component, and 8 bytes per candidate run
- * (LabelComponents(candidateSize)). The arrays keep their memory from one Initialize() to
+ * component), 9 bytes per line, 9 bytes per component, 8 bytes per candidate run
+ * (LabelComponents(candidateSize)), and for each work unit the boundary bits of the lines
+ * a line reaches back to (at most BitsCacheBytes). The arrays keep their memory from one Initialize() to
  * the next (the run arrays take huge pages where the system offers them), so that
  * labelling an image like the last one takes no fresh memory; ReleaseMemory() gives it
  * back.
@@ -254,11 +260,71 @@ public:
   void
   ReleaseMemory();
 
+  /** How two neighbouring lines have their runs linked. */
+  enum class LineLinking : uint8_t
+  {
+    /** By their boundary bits where the two lines have at least BitsRunsPerWord runs per
+     * 64 voxels of line, else by a merge. */
+    Automatic,
+    /** Always by a merge of their runs. */
+    Merge,
+    /** By their boundary bits whenever both lines' bits can be held at once. */
+    Bits
+  };
+  static constexpr SizeValueType BitsRunsPerWord = 2;
+  /** The most bytes of boundary bits one work unit keeps for the lines before its line. */
+  static constexpr SizeValueType BitsCacheBytes = SizeValueType{ 1 } << 20;
+
+  /** Chooses how lines are linked and how many bytes of boundary bits a work unit keeps
+   * (for the tests: every choice gives the same components), from the next Initialize()
+   * on. */
+  void
+  SetLineLinking(LineLinking linking, SizeValueType bitsCacheBytes = BitsCacheBytes)
+  {
+    m_LineLinking = linking;
+    m_BitsCacheBytes = bitsCacheBytes;
+  }
+
 private:
+  /** The boundary bits of recent lines: one bit per voxel, set where a run starts (64
+   * voxels a word), in a ring of slots indexed by line number. */
+  struct LineBits
+  {
+    std::vector<uint64_t>      Words;
+    std::vector<SizeValueType> Lines;
+  };
+  /** The rings not in use, kept for the next slab and the next image. */
+  struct LineBitsPool
+  {
+    std::mutex                             Mutex;
+    std::vector<std::unique_ptr<LineBits>> Free;
+  };
+
   void
   Union(RunIndexType a, RunIndexType b);
+  /** Links the runs of two neighbouring lines, \a lineA after \a lineB. */
   void
-  LinkLines(SizeValueType lineA, SizeValueType lineB);
+  LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits);
+  /** The same by a merge of the two lines' runs. */
+  void
+  MergeLines(SizeValueType lineA, SizeValueType lineB);
+  /** The same from the lines' boundary bits. */
+  void
+  LinkLineBits(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB);
+  /** The same, compiled for a processor with a bit-count instruction (x86 with GCC or
+   * Clang, chosen at run time). */
+  void
+  LinkLineBitsWithPopcount(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB);
+  /** The boundary bits of \a line, from \a bits or written into it. */
+  const uint64_t *
+  BitsOf(LineBits & bits, SizeValueType line) const;
+  std::unique_ptr<LineBits>
+  TakeLineBits();
+  /** Bytes held by the rings not in use (all of them between the loops). */
+  SizeValueType
+  GetLineBitsBytes() const;
+  void
+  GiveBackLineBits(std::unique_ptr<LineBits> bits);
   /** Links the runs of one slab with each other. */
   void
   LinkInsideSlab(SizeValueType slab);
@@ -281,6 +347,12 @@ private:
   std::vector<uint8_t>       m_ComponentAbove;
   std::vector<LineRun>       m_CandidateRuns;
   SizeValueType              m_PeakMemoryInBytes{ 0 };
+  /** Words of boundary bits per line, and slots of a ring. */
+  SizeValueType                 m_BitsWords{ 0 };
+  SizeValueType                 m_BitsSlots{ 0 };
+  LineLinking                   m_LineLinking{ LineLinking::Automatic };
+  SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
+  std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkSmallIsoComponentLineNeighbors.h"
+#include <algorithm>
 
 namespace itk
 {
@@ -35,6 +36,11 @@ LineNeighbors::LineNeighbors(const std::vector<SizeValueType> & size, bool fully
   }
   if (!fullyConnected)
   {
+    // One step back along the highest axis that has more than one line.
+    for (unsigned int a = 0; a < axes; ++a)
+    {
+      m_FarthestEarlier = m_Extent[a] > 1 ? m_Stride[a] : m_FarthestEarlier;
+    }
     return;
   }
   // Every combination of -1, 0, 1 along the axes but all 0. A neighbour is earlier when its
@@ -68,6 +74,7 @@ LineNeighbors::LineNeighbors(const std::vector<SizeValueType> & size, bool fully
     if (highestMove < 0)
     {
       m_Earlier.push_back(neighbor);
+      m_FarthestEarlier = std::max<SizeValueType>(m_FarthestEarlier, static_cast<SizeValueType>(-neighbor.LineOffset));
     }
   }
 }

@@ -19,8 +19,8 @@
 // The run labelling on its own: the components of both sides against a voxel flood fill
 // in 1-D to 4-D with either connectivity, the same numbering whatever the number of slabs
 // (so the seams between slabs are linked right), components numbered in the order of
-// their first run, the candidate runs, full connectivity through a single corner, and the
-// memory it reports.
+// their first run, the candidate runs, full connectivity through a single corner, the
+// memory it reports, and the same numbering whichever way lines are linked.
 
 #include "itkSmallIsoComponentInternalsTestUtilities.h"
 #include "gtest/gtest.h"
@@ -216,6 +216,21 @@ CheckRandomVolume(RandomSource &                      random,
       ASSERT_EQ(voxelComponent, firstNumbering) << slabUnits << " work units' slabs number differently";
     }
   }
+
+  // Lines linked by a merge of their runs, by their boundary bits with a ring of every
+  // line a line reaches back to, and with a ring of two lines (lines written again when
+  // they fell out, pairs in one slot merged): the same numbering.
+  using Linking = RunLabeling::LineLinking;
+  for (const auto & choice : { std::make_pair(Linking::Merge, RunLabeling::BitsCacheBytes),
+                               std::make_pair(Linking::Bits, RunLabeling::BitsCacheBytes),
+                               std::make_pair(Linking::Bits, SizeValueType{ 1 }) })
+  {
+    RunLabeling labeling;
+    labeling.SetLineLinking(choice.first, choice.second);
+    Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, 2, candidateSize);
+    ASSERT_EQ(VoxelComponents(labeling), firstNumbering) << "linking " << static_cast<int>(choice.first) << " with "
+                                                         << choice.second << " bytes of bits numbers differently";
+  }
 }
 
 /** Two above voxels at \a first and \a second in an image of extent \a extent, the rest
@@ -251,6 +266,9 @@ TEST(SmallIsoComponentRunLabeling, ComponentsOfBothSidesAsAFloodFillFindsThem)
   ForEachRandomGrid<2>(102, 200, 30, CheckRandomVolume<2>);
   ForEachRandomGrid<3>(103, 200, 12, CheckRandomVolume<3>);
   ForEachRandomGrid<4>(104, 100, 6, CheckRandomVolume<4>);
+  // Lines of several 64-voxel words of boundary bits.
+  ForEachRandomGrid<2>(105, 20, 300, CheckRandomVolume<2>);
+  ForEachRandomGrid<3>(106, 8, 140, CheckRandomVolume<3>);
 }
 
 TEST(SmallIsoComponentRunLabeling, FullConnectivityJoinsVoxelsThatShareOnlyACorner)
