@@ -431,10 +431,20 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
                                                                     Removal &           above)
 {
   // Without a below pass after it (Side Above) the above pass flips nothing: the below
-  // side's statistics describe the input.
+  // side's statistics describe the input. When nothing flips, the groups are the below
+  // components themselves, and no grouping is needed.
   if (!this->AbovePassFlips())
   {
     std::fill(above.Removed.begin(), above.Removed.end(), 0);
+    std::vector<uint8_t> removedBelow =
+      this->DecideRemovals(SideEnum::Below, labeling.GetNumberOfComponents(), [&labeling](SizeValueType index) {
+        const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
+        return labeling.IsComponentAbove(component) ? 0 : labeling.GetComponentSize(component);
+      });
+    m_ExtraMemory.Hold(
+      labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, removedBelow);
+    std::vector<LineRun>().swap(above.Runs);
+    return removedBelow;
   }
   const BelowGrouping::Groups groups = grouping.Finish(above.Removed);
   m_ExtraMemory.Hold(

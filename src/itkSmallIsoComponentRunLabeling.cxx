@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
+#include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -513,12 +514,22 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
 auto
 RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
 {
-  std::vector<LineRun> runs;
-  for (const LineRun & candidate : m_CandidateRuns)
+  // The candidates are far apart in the run arrays: their components are requested a
+  // few candidates ahead.
+  std::vector<LineRun>       runs;
+  const RunIndexType * const label = m_RunLabel.data();
+  const SizeValueType        candidates = m_CandidateRuns.size();
+  const LineRun * const      candidate = m_CandidateRuns.data();
+  constexpr SizeValueType    Ahead = 2 * PrefetchRunsAhead;
+  for (SizeValueType i = 0; i < candidates; ++i)
   {
-    if (selected[m_RunLabel.data()[candidate.Run]])
+    if (i + Ahead < candidates)
     {
-      runs.push_back(candidate);
+      Prefetch(label + candidate[i + Ahead].Run);
+    }
+    if (selected[label[candidate[i].Run]])
+    {
+      runs.push_back(candidate[i]);
     }
   }
   return runs;
