@@ -172,7 +172,7 @@ RunLabeling::Union(RunIndexType a, RunIndexType b)
   }
 }
 
-void
+SMALLISO_ALWAYS_INLINE void
 RunLabeling::MergeLines(SizeValueType lineA, SizeValueType lineB)
 {
   auto       a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
@@ -364,7 +364,10 @@ RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits
     m_LineRunBegin[lineA + 1] - m_LineRunBegin[lineA] + m_LineRunBegin[lineB + 1] - m_LineRunBegin[lineB];
   const bool merge = m_LineLinking == LineLinking::Automatic ? runs < BitsRunsPerWord * m_BitsWords || runs <= 2
                                                              : m_LineLinking == LineLinking::Merge;
-  if (merge || lineA % m_BitsSlots == lineB % m_BitsSlots)
+  // (lineA comes after lineB: they share a slot only if they are a multiple of the ring
+  // apart, never when the ring holds every line a line reaches back to.)
+  const SizeValueType apart = lineA - lineB;
+  if (merge || (apart >= m_BitsSlots && apart % m_BitsSlots == 0))
   {
     this->MergeLines(lineA, lineB);
     return;
