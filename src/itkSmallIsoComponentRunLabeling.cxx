@@ -469,9 +469,6 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_CandidateRuns.clear();
-  constexpr SizeValueType      BufferSize = 256;
-  LineRun                      buffer[BufferSize];
-  SizeValueType                buffered = 0;
   RunIndexType * const         label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
@@ -500,18 +497,15 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
         m_ComponentSize[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
       m_ComponentSize[component] = size;
       // A component's size only grows, so every run of a component that ends at most
-      // candidateSize voxels large is kept. Written without a branch (which would be
-      // mispredicted for every speck) into a small buffer, emptied when full.
-      buffer[buffered] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
-      buffered += size <= candidateSize ? 1 : 0;
-      if (buffered == BufferSize)
+      // candidateSize voxels large is kept. A branch, mispredicted where a speck begins or
+      // ends, measured faster than storing every run into a buffer without one (51 against
+      // 62 ms on 28 million runs with a million candidates).
+      if (size <= candidateSize)
       {
-        m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
-        buffered = 0;
+        m_CandidateRuns.push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
       }
     }
   }
-  m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
 }
 
 auto
