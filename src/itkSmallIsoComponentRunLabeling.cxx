@@ -472,6 +472,9 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
   RunIndexType * const         label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
+  constexpr SizeValueType      BufferSize = 256;
+  LineRun                      buffer[BufferSize];
+  SizeValueType                buffered = 0;
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
     const SizeValueType end = m_LineRunBegin[line + 1];
@@ -497,15 +500,22 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
         m_ComponentSize[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
       m_ComponentSize[component] = size;
       // A component's size only grows, so every run of a component that ends at most
-      // candidateSize voxels large is kept. A branch, mispredicted where a speck begins or
-      // ends, measured faster than storing every run into a buffer without one (51 against
-      // 62 ms on 28 million runs with a million candidates).
+      // candidateSize voxels large is kept, in a small buffer emptied when full. A branch,
+      // mispredicted where a speck begins or ends, measured faster than storing every run
+      // into the buffer without one (51 against 62 ms on 28 million runs with a million
+      // candidates).
       if (size <= candidateSize)
       {
-        m_CandidateRuns.push_back({ static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) });
+        buffer[buffered++] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
+        if (buffered == BufferSize)
+        {
+          m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
+          buffered = 0;
+        }
       }
     }
   }
+  m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
 }
 
 auto
