@@ -67,11 +67,9 @@ struct Row
 };
 
 /** The filter's phases, as its progress shares end (docs/algorithm.md). */
-const std::vector<std::pair<const char *, float>> Phases{ { "encode", 0.30f },        { "assemble", 0.35f },
-                                                          { "link+number", 0.70f },   { "collect above", 0.72f },
-                                                          { "values above", 0.77f },  { "write above", 0.80f },
-                                                          { "group below", 0.85f },   { "collect below", 0.88f },
-                                                          { "values below", 0.955f }, { "write below", 1.0f } };
+const std::vector<std::pair<const char *, float>> Phases{ { "encode", 0.30f },      { "assemble", 0.35f },
+                                                          { "link+number", 0.70f }, { "remove above", 0.80f },
+                                                          { "group below", 0.85f }, { "remove below", 1.0f } };
 
 /** One timed run: wall time and the page faults the process took meanwhile. */
 struct Sample
@@ -557,7 +555,7 @@ public:
        << std::left << std::setw(22) << "dataset" << std::setw(17) << "peer" << std::right << std::setw(7) << "threads";
     for (const auto & phase : Phases)
     {
-      os << std::setw(14) << phase.first;
+      os << std::setw(13) << phase.first;
     }
     os << std::setw(8) << "ns/vox\n";
     for (const PhaseRow & row : m_PhaseRows)
@@ -567,7 +565,7 @@ public:
       double total = 0;
       for (const double ms : row.MedianMs)
       {
-        os << std::setw(14) << ms;
+        os << std::setw(13) << ms;
         total += ms;
       }
       os << std::setw(8) << total * 1e6 / row.Voxels << "\n";

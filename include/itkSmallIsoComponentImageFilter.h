@@ -300,7 +300,7 @@ private:
    * them. When the below pass follows (Side Both), the removed components flip below, and
    * \a grouping joins the below components next to them in the repair's loop. */
   Removal
-  RemoveAbove(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping, ProgressTransformer & progress);
+  RemoveAbove(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
 
   /** The components of the image the below pass sees: the below components grouped
    * through the above components that flipped (none unless the above pass of Both removed
@@ -316,13 +316,7 @@ private:
   RemoveBelow(WorkTeam &                   team,
               const RunLabeling &          labeling,
               const std::vector<uint8_t> & removedBelow,
-              const std::vector<uint8_t> & removedAbove,
-              ProgressTransformer &        progress);
-
-  /** The shares of a pass's progress reached once its runs are collected, and once their
-   * new values are computed; writing them ends the pass. */
-  static constexpr float PassCollectedShare = 0.2f;
-  static constexpr float PassComputedShare = 0.7f;
+              const std::vector<uint8_t> & removedAbove);
   /** @} */
 
   /** Counts the components of \a side in its statistics and decides which ones its pass
@@ -340,16 +334,14 @@ private:
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
    * computed from the image before the pass, and marks it in the mask when there is one.
    * \a joinFlipped, if given, joins the below components next to the runs in the same
-   * loop. \a heldBytes: what the caller holds meanwhile. Reports PassComputedShare of the
-   * pass's \a progress between computing and writing. */
+   * loop. \a heldBytes: what the caller holds meanwhile. */
   void
   RepairRuns(WorkTeam &                   team,
              const RunLabeling &          labeling,
              const std::vector<LineRun> & runs,
              SideEnum                     side,
              BelowGrouping *              joinFlipped,
-             SizeValueType                heldBytes,
-             ProgressTransformer &        progress);
+             SizeValueType                heldBytes);
 
   /** Planes per slab for the sweep in slabs, or 0 to label the whole image at once. */
   SizeValueType

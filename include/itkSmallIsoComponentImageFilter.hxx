@@ -149,7 +149,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // The above pass, then the below pass on the image the above pass leaves.
   ProgressTransformer aboveProgress(0.7f, 0.8f, this);
   BelowGrouping       grouping(labeling);
-  Removal             above = this->RemoveAbove(team, labeling, grouping, aboveProgress);
+  Removal             above = this->RemoveAbove(team, labeling, grouping);
   this->EndPhase(aboveProgress);
 
   ProgressTransformer        groupProgress(0.8f, 0.85f, this);
@@ -157,7 +157,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->EndPhase(groupProgress);
 
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
-  this->RemoveBelow(team, labeling, removedBelow, above.Removed, belowProgress);
+  this->RemoveBelow(team, labeling, removedBelow, above.Removed);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
 }
 
@@ -401,10 +401,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
 
 template <typename TInputImage, typename TOutputImage>
 auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam &            team,
-                                                                     const RunLabeling &   labeling,
-                                                                     BelowGrouping &       grouping,
-                                                                     ProgressTransformer & progress) -> Removal
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam &          team,
+                                                                     const RunLabeling & labeling,
+                                                                     BelowGrouping &     grouping) -> Removal
 {
   Removal above;
   above.Removed =
@@ -413,7 +412,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
       return labeling.IsComponentAbove(component) ? labeling.GetComponentSize(component) : 0;
     });
   above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
-  progress.GetProcessObject()->UpdateProgress(PassCollectedShare);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
   this->RepairRuns(team,
@@ -421,8 +419,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                    above.Runs,
                    SideEnum::Above,
                    this->AbovePassFlips() ? &grouping : nullptr,
-                   above.Removed.capacity() + grouping.GetScratchBytes(),
-                   progress);
+                   above.Removed.capacity() + grouping.GetScratchBytes());
   m_NumberOfModifiedVoxels += m_AboveStatistics.RemovedVoxels;
   return above;
 }
@@ -477,15 +474,12 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam &                   team,
                                                                      const RunLabeling &          labeling,
                                                                      const std::vector<uint8_t> & removedBelow,
-                                                                     const std::vector<uint8_t> & removedAbove,
-                                                                     ProgressTransformer &        progress)
+                                                                     const std::vector<uint8_t> & removedAbove)
 {
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
   const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
-  progress.GetProcessObject()->UpdateProgress(PassCollectedShare);
-  this->RepairRuns(
-    team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity(), progress);
+  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
   // Every voxel of a removed group is written; those of its flipped members were written
   // by the above pass already.
   SizeValueType writtenAgain = 0;
@@ -556,8 +550,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
                                                                     const std::vector<LineRun> & runs,
                                                                     SideEnum                     side,
                                                                     BelowGrouping *              joinFlipped,
-                                                                    SizeValueType                heldBytes,
-                                                                    ProgressTransformer &        progress)
+                                                                    SizeValueType                heldBytes)
 {
   if (runs.empty())
   {
@@ -583,7 +576,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
                        joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
-  progress.GetProcessObject()->UpdateProgress(PassComputedShare);
   repair.WriteValues(output->GetBufferPointer(),
                      m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr,
                      side == SideEnum::Above ? 1 : 2);
