@@ -327,6 +327,11 @@ private:
   std::vector<uint8_t>
   DecideRemovals(SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
 
+  /** DecideRemovals() over the labelling's components, those of the other side being no
+   * entries: one flag per component. */
+  std::vector<uint8_t>
+  DecideComponentRemovals(const RunLabeling & labeling, SideEnum side);
+
   /** The runs of the components flagged in \a removed, of \a side, in run order. */
   std::vector<LineRun>
   CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;

@@ -406,11 +406,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                                                                      BelowGrouping &     grouping) -> Removal
 {
   Removal above;
-  above.Removed =
-    this->DecideRemovals(SideEnum::Above, labeling.GetNumberOfComponents(), [&labeling](SizeValueType index) {
-      const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
-      return labeling.IsComponentAbove(component) ? labeling.GetComponentSize(component) : 0;
-    });
+  above.Removed = this->DecideComponentRemovals(labeling, SideEnum::Above);
   above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
@@ -436,11 +432,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
   if (!this->AbovePassFlips())
   {
     std::fill(above.Removed.begin(), above.Removed.end(), 0);
-    std::vector<uint8_t> removedBelow =
-      this->DecideRemovals(SideEnum::Below, labeling.GetNumberOfComponents(), [&labeling](SizeValueType index) {
-        const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
-        return labeling.IsComponentAbove(component) ? 0 : labeling.GetComponentSize(component);
-      });
+    std::vector<uint8_t> removedBelow = this->DecideComponentRemovals(labeling, SideEnum::Below);
     m_ExtraMemory.Hold(
       labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, removedBelow);
     std::vector<LineRun>().swap(above.Runs);
@@ -530,6 +522,18 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(SideEnum
   }
   statistics.Histogram = sizes.Histogram();
   return removed;
+}
+
+template <typename TInputImage, typename TOutputImage>
+std::vector<uint8_t>
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(const RunLabeling & labeling,
+                                                                                 SideEnum            side)
+{
+  const bool above = side == SideEnum::Above;
+  return this->DecideRemovals(side, labeling.GetNumberOfComponents(), [&labeling, above](SizeValueType index) {
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
+    return labeling.IsComponentAbove(component) == above ? labeling.GetComponentSize(component) : 0;
+  });
 }
 
 template <typename TInputImage, typename TOutputImage>
