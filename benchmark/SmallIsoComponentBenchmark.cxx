@@ -66,10 +66,16 @@ struct Row
   double       MedianFaults;
 };
 
-/** The filter's phases, as its progress shares end (docs/algorithm.md). */
-const std::vector<std::pair<const char *, float>> Phases{ { "encode", 0.30f },      { "assemble", 0.35f },
-                                                          { "link+number", 0.70f }, { "remove above", 0.80f },
-                                                          { "group below", 0.85f }, { "remove below", 1.0f } };
+/** The filter's phases (SmallIsoComponentEnums::Phase), as the benchmark's columns name them. */
+const std::vector<std::pair<const char *, itk::SmallIsoComponentEnums::Phase>> Phases{
+  { "encode", itk::SmallIsoComponentEnums::Phase::Encoding },
+  { "link", itk::SmallIsoComponentEnums::Phase::Linking },
+  { "seams", itk::SmallIsoComponentEnums::Phase::Seams },
+  { "number", itk::SmallIsoComponentEnums::Phase::Numbering },
+  { "decide", itk::SmallIsoComponentEnums::Phase::Deciding },
+  { "repair", itk::SmallIsoComponentEnums::Phase::Repair },
+  { "write", itk::SmallIsoComponentEnums::Phase::Writes }
+};
 
 /** One timed run: wall time and the page faults the process took meanwhile. */
 struct Sample
@@ -87,55 +93,18 @@ PageFaults()
   return static_cast<double>(usage.ru_minflt + usage.ru_majflt);
 }
 
-/** Times the phases of one update of a filter: each phase ends when the progress reaches the
- * end of its share. */
-class PhaseClock
+/** Milliseconds of each phase of the last update of \a filter. */
+template <typename TFilter>
+std::vector<double>
+PhaseMs(const TFilter & filter)
 {
-public:
-  explicit PhaseClock(itk::ProcessObject * filter)
-    : m_Filter(filter)
+  std::vector<double> ms;
+  for (const auto & phase : Phases)
   {
-    auto start = itk::SimpleMemberCommand<PhaseClock>::New();
-    start->SetCallbackFunction(this, &PhaseClock::Start);
-    filter->AddObserver(itk::StartEvent(), start);
-    auto progress = itk::SimpleMemberCommand<PhaseClock>::New();
-    progress->SetCallbackFunction(this, &PhaseClock::Progress);
-    filter->AddObserver(itk::ProgressEvent(), progress);
+    ms.push_back(1000.0 * filter.GetPhaseSeconds(phase.second));
   }
-
-  /** Milliseconds of each phase of the last update. */
-  const std::vector<double> &
-  Last() const
-  {
-    return m_Ms;
-  }
-
-private:
-  void
-  Start()
-  {
-    m_Last = std::chrono::steady_clock::now();
-    m_Ms.assign(Phases.size(), std::nan(""));
-    m_Next = 0;
-  }
-
-  void
-  Progress()
-  {
-    const float progress = m_Filter->GetProgress();
-    while (m_Next < Phases.size() && progress >= Phases[m_Next].second - 1e-4f)
-    {
-      const auto now = std::chrono::steady_clock::now();
-      m_Ms[m_Next++] = std::chrono::duration<double, std::milli>(now - m_Last).count();
-      m_Last = now;
-    }
-  }
-
-  itk::ProcessObject *                  m_Filter;
-  std::chrono::steady_clock::time_point m_Last;
-  std::vector<double>                   m_Ms;
-  std::size_t                           m_Next{ 0 };
-};
+  return ms;
+}
 
 double
 Median(std::vector<double> values)
@@ -411,7 +380,6 @@ public:
     using RelabelType = itk::RelabelComponentImageFilter<LabelImageType, LabelImageType>;
     std::map<unsigned int, typename SmallIsoType::Pointer>  smallIso;
     std::map<unsigned int, typename SmallIsoType::Pointer>  smallIsoAbove;
-    std::map<std::string, std::unique_ptr<PhaseClock>>      clocks;
     std::map<unsigned int, typename ThresholdType::Pointer> threshold;
     std::map<unsigned int, typename ConnectedType::Pointer> connected;
     std::map<unsigned int, typename RelabelType::Pointer>   relabel;
@@ -428,8 +396,6 @@ public:
       smallIsoAbove[threads]->SetMaximumComponentSize(MaximumSize);
       smallIsoAbove[threads]->SetSide(itk::SmallIsoComponentEnums::Side::Above);
       smallIsoAbove[threads]->SetNumberOfWorkUnits(threads);
-      clocks["smalliso" + std::to_string(threads)] = std::make_unique<PhaseClock>(smallIso[threads]);
-      clocks["smalliso-above" + std::to_string(threads)] = std::make_unique<PhaseClock>(smallIsoAbove[threads]);
 
       threshold[threads] = ThresholdType::New();
       threshold[threads]->SetInput(input);
@@ -461,7 +427,7 @@ public:
           SmallIsoType *    filter = (*filters)[threads];
           times[{ peer, threads }].push_back(TimeAfterWarmUp([&] { filter->Modified(); }, [&] { filter->Update(); }));
           extra[{ peer, threads }] = filter->GetPeakExtraMemoryInBytes();
-          phases[{ peer, threads }].push_back(clocks[peer + std::to_string(threads)]->Last());
+          phases[{ peer, threads }].push_back(PhaseMs(*filter));
         }
 
         times[{ "itk-cc-relabel", threads }].push_back(
@@ -555,7 +521,7 @@ public:
        << std::left << std::setw(22) << "dataset" << std::setw(17) << "peer" << std::right << std::setw(7) << "threads";
     for (const auto & phase : Phases)
     {
-      os << std::setw(13) << phase.first;
+      os << std::setw(9) << phase.first;
     }
     os << std::setw(8) << "ns/vox\n";
     for (const PhaseRow & row : m_PhaseRows)
@@ -565,7 +531,7 @@ public:
       double total = 0;
       for (const double ms : row.MedianMs)
       {
-        os << std::setw(13) << ms;
+        os << std::setw(9) << ms;
         total += ms;
       }
       os << std::setw(8) << total * 1e6 / row.Voxels << "\n";

@@ -42,11 +42,38 @@ public:
     Below = 1,
     Both = 2
   };
+
+  /** \ingroup SmallIsoComponent
+   * The phases of an update that labels the whole image, in order (docs/algorithm.md).
+   * Encoding: the lines' runs (and the output's copy of the input).
+   * Linking: the runs linked inside each slab of lines, the slabs shared among the work units.
+   * Seams: the runs linked across the slabs' borders (one work unit).
+   * Numbering: the components numbered and their sizes summed (one work unit; the others
+   * meanwhile write the output's copy of a large input).
+   * Deciding: which components each pass removes, their runs gathered, and the below side's
+   * components grouped through the flipped ones.
+   * Repair: the repaired value of every removed voxel computed.
+   * Writes: the repaired values (and the mask) written. */
+  enum class Phase : uint8_t
+  {
+    Encoding = 0,
+    Linking = 1,
+    Seams = 2,
+    Numbering = 3,
+    Deciding = 4,
+    Repair = 5,
+    Writes = 6
+  };
+  /** How many phases there are. */
+  static constexpr unsigned int NumberOfPhases = 7;
 };
 
 /** Prints the enumerator's qualified name, e.g. "itk::SmallIsoComponentEnums::Side::Both". */
 extern SmallIsoComponent_EXPORT std::ostream &
                                 operator<<(std::ostream & out, const SmallIsoComponentEnums::Side value);
+/** Prints the enumerator's qualified name, e.g. "itk::SmallIsoComponentEnums::Phase::Seams". */
+extern SmallIsoComponent_EXPORT std::ostream &
+                                operator<<(std::ostream & out, const SmallIsoComponentEnums::Phase value);
 } // end namespace itk
 
 #endif

@@ -23,6 +23,7 @@
 #include "itkSmallIsoComponentDeferredFill.h"
 #include "itkSmallIsoComponentImageFilterBase.h"
 #include "itkSmallIsoComponentPeakMemory.h"
+#include "itkSmallIsoComponentPhaseClock.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include <memory>
 #include <type_traits>
@@ -140,6 +141,7 @@ public:
   using MaskPixelType = typename Superclass::MaskPixelType;
   using MaskImageType = typename Superclass::MaskImageType;
   using SideEnum = typename Superclass::SideEnum;
+  using PhaseEnum = SmallIsoComponentEnums::Phase;
   /** Component size (voxels) -> number of components of that size. */
   using ComponentSizeHistogramType = typename Superclass::ComponentSizeHistogramType;
 
@@ -172,6 +174,15 @@ public:
   GetPeakExtraMemoryInBytes() const
   {
     return m_ExtraMemory.GetPeakInBytes();
+  }
+  /** Seconds of wall time the last Update() spent in \a phase (see SmallIsoComponentEnums::Phase):
+   * the phases follow one another, and their times add up to the update's after the outputs
+   * are allocated. A phase done in both passes (deciding, repair, writes) adds both. All are 0
+   * after an update that swept in slabs (see GetSweptInSlabs()). */
+  double
+  GetPhaseSeconds(PhaseEnum phase) const
+  {
+    return m_PhaseClock.GetSeconds(phase);
   }
   /** @} */
 
@@ -375,6 +386,7 @@ private:
   SizeValueType                       m_NumberOfModifiedVoxels{ 0 };
   SizeValueType                       m_NumberOfUnrepairableVoxels{ 0 };
   SmallIsoComponentDetail::PeakMemory m_ExtraMemory;
+  SmallIsoComponentDetail::PhaseClock m_PhaseClock;
   SizeValueType                       m_SlabSweepMinimumSize{ DefaultSlabSweepMinimumSize };
   SizeValueType                       m_SlabThickness{ 0 };
   SizeValueType                       m_SweptSlabThickness{ 0 };

@@ -135,10 +135,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
     std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
   ProgressTransformer encodeProgress(0.0f, 0.3f, this);
   const DeferredFill  fill = this->EncodeRuns(team, labeling);
+  m_PhaseClock.End(PhaseEnum::Encoding);
   this->EndPhase(encodeProgress);
 
   ProgressTransformer assembleProgress(0.3f, 0.35f, this);
   labeling.AssembleRuns(team);
+  m_PhaseClock.End(PhaseEnum::Linking);
   m_ExtraMemory.Hold(labeling.GetPeakMemoryInBytes());
   this->EndPhase(assembleProgress);
 
@@ -154,6 +156,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   ProgressTransformer        groupProgress(0.8f, 0.85f, this);
   const std::vector<uint8_t> removedBelow = this->GroupBelow(labeling, grouping, above);
+  m_PhaseClock.End(PhaseEnum::Deciding);
   this->EndPhase(groupProgress);
 
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
@@ -290,6 +293,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ResetStatistics()
   m_NumberOfModifiedVoxels = 0;
   m_NumberOfUnrepairableVoxels = 0;
   m_ExtraMemory.Reset();
+  m_PhaseClock.Start();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -375,6 +379,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
 {
   const auto linkAndNumber = [this, &labeling] {
     labeling.LinkRuns();
+    m_PhaseClock.End(PhaseEnum::Seams);
     labeling.LabelComponents(m_EffectiveMaximumComponentSize);
   };
   if (fill.IsEmpty())
@@ -396,6 +401,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
       }
     });
   }
+  m_PhaseClock.End(PhaseEnum::Numbering);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes());
 }
 
@@ -408,6 +414,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
   Removal above;
   above.Removed = this->DecideComponentRemovals(labeling, SideEnum::Above);
   above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
+  m_PhaseClock.End(PhaseEnum::Deciding);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
   this->RepairRuns(team,
@@ -471,6 +478,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
   const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
+  m_PhaseClock.End(PhaseEnum::Deciding);
   this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
   // Every voxel of a removed group is written; those of its flipped members were written
   // by the above pass already.
@@ -483,6 +491,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
     }
   }
   m_NumberOfModifiedVoxels += m_BelowStatistics.RemovedVoxels - writtenAgain;
+  m_PhaseClock.End(PhaseEnum::Deciding);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -580,9 +589,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
                        joinFlipped);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
+  m_PhaseClock.End(PhaseEnum::Repair);
   repair.WriteValues(output->GetBufferPointer(),
                      m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr,
                      side == SideEnum::Above ? 1 : 2);
+  m_PhaseClock.End(PhaseEnum::Writes);
 }
 
 template <typename TInputImage, typename TOutputImage>

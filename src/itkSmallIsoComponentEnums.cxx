@@ -33,4 +33,27 @@ operator<<(std::ostream & out, const SmallIsoComponentEnums::Side value)
   }
   return out << "INVALID VALUE FOR itk::SmallIsoComponentEnums::Side";
 }
+
+std::ostream &
+operator<<(std::ostream & out, const SmallIsoComponentEnums::Phase value)
+{
+  switch (value)
+  {
+    case SmallIsoComponentEnums::Phase::Encoding:
+      return out << "itk::SmallIsoComponentEnums::Phase::Encoding";
+    case SmallIsoComponentEnums::Phase::Linking:
+      return out << "itk::SmallIsoComponentEnums::Phase::Linking";
+    case SmallIsoComponentEnums::Phase::Seams:
+      return out << "itk::SmallIsoComponentEnums::Phase::Seams";
+    case SmallIsoComponentEnums::Phase::Numbering:
+      return out << "itk::SmallIsoComponentEnums::Phase::Numbering";
+    case SmallIsoComponentEnums::Phase::Deciding:
+      return out << "itk::SmallIsoComponentEnums::Phase::Deciding";
+    case SmallIsoComponentEnums::Phase::Repair:
+      return out << "itk::SmallIsoComponentEnums::Phase::Repair";
+    case SmallIsoComponentEnums::Phase::Writes:
+      return out << "itk::SmallIsoComponentEnums::Phase::Writes";
+  }
+  return out << "INVALID VALUE FOR itk::SmallIsoComponentEnums::Phase";
+}
 } // end namespace itk

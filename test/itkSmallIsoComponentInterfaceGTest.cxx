@@ -26,6 +26,7 @@
 #include "gtest/gtest.h"
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -293,6 +294,68 @@ TEST(SmallIsoComponentInterface, SideEnumPrintsItsQualifiedName)
   EXPECT_EQ(print(SideEnum::Above), "itk::SmallIsoComponentEnums::Side::Above");
   EXPECT_EQ(print(SideEnum::Below), "itk::SmallIsoComponentEnums::Side::Below");
   EXPECT_EQ(print(SideEnum::Both), "itk::SmallIsoComponentEnums::Side::Both");
+}
+
+TEST(SmallIsoComponentInterface, PhaseEnumPrintsItsQualifiedName)
+{
+  using PhaseEnum = itk::SmallIsoComponentEnums::Phase;
+  const std::array<const char *, itk::SmallIsoComponentEnums::NumberOfPhases> names{ "Encoding",  "Linking",  "Seams",
+                                                                                     "Numbering", "Deciding", "Repair",
+                                                                                     "Writes" };
+  for (unsigned int phase = 0; phase < names.size(); ++phase)
+  {
+    std::ostringstream out;
+    out << static_cast<PhaseEnum>(phase);
+    EXPECT_EQ(out.str(), std::string("itk::SmallIsoComponentEnums::Phase::") + names[phase]);
+  }
+}
+
+TEST(SmallIsoComponentInterface, PhaseTimesAddUpToTheUpdate)
+{
+  using PhaseEnum = itk::SmallIsoComponentEnums::Phase;
+  const auto phaseSum = [](const FilterType * filter) {
+    double sum = 0;
+    for (unsigned int phase = 0; phase < itk::SmallIsoComponentEnums::NumberOfPhases; ++phase)
+    {
+      const double seconds = filter->GetPhaseSeconds(static_cast<PhaseEnum>(phase));
+      EXPECT_GE(seconds, 0.0) << static_cast<PhaseEnum>(phase);
+      sum += seconds;
+    }
+    return sum;
+  };
+  for (const unsigned int workUnits : { 1u, 2u })
+  {
+    auto filter = FilterType::New();
+    filter->SetInput(MakeSpeckledImage(64, 99));
+    filter->SetIsoValue(128);
+    filter->SetMaximumComponentSize(20);
+    filter->SetNumberOfWorkUnits(workUnits);
+    const auto start = std::chrono::steady_clock::now();
+    filter->Update();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_GT(filter->GetNumberOfRemovedComponents(SideEnum::Above), 0u);
+    ASSERT_GT(filter->GetNumberOfRemovedComponents(SideEnum::Below), 0u);
+    // Every phase ran, and the phases follow one another inside the update.
+    for (unsigned int phase = 0; phase < itk::SmallIsoComponentEnums::NumberOfPhases; ++phase)
+    {
+      EXPECT_GT(filter->GetPhaseSeconds(static_cast<PhaseEnum>(phase)), 0.0) << static_cast<PhaseEnum>(phase);
+    }
+    EXPECT_LE(phaseSum(filter), wall);
+
+    // Nothing to remove: no repair and no writes, and nothing left from the update before.
+    filter->SetInput(MakeImage<uint8_t, 3>({ 16, 16, 16 }, std::vector<uint8_t>(16 * 16 * 16, 7)));
+    filter->Update();
+    EXPECT_EQ(filter->GetPhaseSeconds(PhaseEnum::Repair), 0.0);
+    EXPECT_EQ(filter->GetPhaseSeconds(PhaseEnum::Writes), 0.0);
+    EXPECT_GT(filter->GetPhaseSeconds(PhaseEnum::Encoding), 0.0);
+
+    // A sweep in slabs has none of these phases.
+    filter->SetInput(MakeSpeckledImage(64, 99));
+    filter->SetSlabThickness(4);
+    filter->Update();
+    ASSERT_TRUE(filter->GetSweptInSlabs());
+    EXPECT_EQ(phaseSum(filter), 0.0);
+  }
 }
 
 TEST(SmallIsoComponentInterface, NaNIsoValueIsAnError)
