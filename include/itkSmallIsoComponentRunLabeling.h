@@ -317,6 +317,32 @@ private:
    * Clang, chosen at run time). */
   void
   LinkLineBitsWithPopcount(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB);
+  /** Whether two neighbouring lines are linked from their boundary bits (else by a merge). */
+  bool
+  LinksByBits(SizeValueType lineA, SizeValueType lineB) const;
+  /** Face connectivity in 3-D: links \a lineA with the line before it along axis 1 (lineA - 1),
+   * whose runs it is linked with first, and with the line a plane before it
+   * (lineA - \a linesPerRow), both from boundary bits, in one pass. Returns false, having
+   * linked nothing, where either pair is linked by a merge. */
+  bool
+  LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits & bits);
+  /** The same from the boundary bits of the four lines of the square: \a bitsA, of the line
+   * before it (\a bitsB), of the line a plane before (\a bitsC) and of the line before that
+   * one (\a bitsD). */
+  void
+  LinkSquareBits(SizeValueType    lineA,
+                 SizeValueType    linesPerRow,
+                 const uint64_t * bitsA,
+                 const uint64_t * bitsB,
+                 const uint64_t * bitsC,
+                 const uint64_t * bitsD);
+  void
+  LinkSquareBitsWithPopcount(SizeValueType    lineA,
+                             SizeValueType    linesPerRow,
+                             const uint64_t * bitsA,
+                             const uint64_t * bitsB,
+                             const uint64_t * bitsC,
+                             const uint64_t * bitsD);
   /** The boundary bits of \a line, from \a bits or written into it. */
   const uint64_t *
   BitsOf(LineBits & bits, SizeValueType line) const;

@@ -218,11 +218,13 @@ CheckRandomVolume(RandomSource &                      random,
   }
 
   // Lines linked by a merge of their runs, by their boundary bits with a ring of every
-  // line a line reaches back to, and with a ring of two lines (lines written again when
-  // they fell out, pairs in one slot merged): the same numbering.
+  // line a line reaches back to, and with rings of four lines (for lines of one word) and of
+  // two lines (lines written again when they fell out, pairs in one slot merged): the same
+  // numbering.
   using Linking = RunLabeling::LineLinking;
   for (const auto & choice : { std::make_pair(Linking::Merge, RunLabeling::BitsCacheBytes),
                                std::make_pair(Linking::Bits, RunLabeling::BitsCacheBytes),
+                               std::make_pair(Linking::Bits, SizeValueType{ 40 }),
                                std::make_pair(Linking::Bits, SizeValueType{ 1 }) })
   {
     RunLabeling labeling;
