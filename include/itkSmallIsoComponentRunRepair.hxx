@@ -56,14 +56,24 @@ template <typename TPrefetch, typename TVisit>
 void
 RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const
 {
+  // Two stages: the start of a run twice the distance ahead (the run arrays are far larger
+  // than the caches), then what prefetch() asks for a run ahead, which reads that start.
   const SizeValueType begin = this->ChunkBegin(chunk);
   const SizeValueType end = this->ChunkBegin(chunk + 1);
+  for (SizeValueType i = begin; i < std::min(end, begin + 2 * PrefetchRunsAhead); ++i)
+  {
+    Prefetch(m_Table.Start + m_Runs[i].Run);
+  }
   for (SizeValueType i = begin; i < std::min(end, begin + PrefetchRunsAhead); ++i)
   {
     prefetch(m_Runs[i]);
   }
   for (SizeValueType i = begin; i < end; ++i)
   {
+    if (i + 2 * PrefetchRunsAhead < end)
+    {
+      Prefetch(m_Table.Start + m_Runs[i + 2 * PrefetchRunsAhead].Run);
+    }
     if (i + PrefetchRunsAhead < end)
     {
       prefetch(m_Runs[i + PrefetchRunsAhead]);

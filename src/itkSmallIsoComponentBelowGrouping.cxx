@@ -126,13 +126,17 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
         join(flipped, component[below]);
       }
     };
-  // The neighbouring lines of the runs ahead are requested early: first where their runs
-  // begin, then (a few runs later, once that has arrived) their runs. Those one plane
-  // away are far from the line in memory; the ones next to it in the plane are not.
+  // The runs ahead and their neighbouring lines are requested early: first the run itself
+  // and where the lines' runs begin, then (a few runs later, once that has arrived) the
+  // lines' runs where the run's start falls if runs were spread evenly along the line (the
+  // search for the run that holds it ends near there).
   const SizeValueType lines = m_Labeling.GetNumberOfLines();
   const SizeValueType plane = m_Labeling.GetSize().size() > 1 ? m_Labeling.GetSize()[1] : 1;
+  const double        perVoxel = 1.0 / static_cast<double>(table.LineLength);
   const auto          prefetchLines = [&](const LineRun & ahead) {
     const SizeValueType line = ahead.Line;
+    Prefetch(runStart + ahead.Run);
+    Prefetch(component + ahead.Run);
     Prefetch(lineRunBegin + line);
     Prefetch(lineFirstAbove + line);
     if (line >= plane)
@@ -148,12 +152,14 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
   };
   const auto prefetchRuns = [&](const LineRun & ahead) {
     const SizeValueType line = ahead.Line;
+    const double        along = static_cast<double>(runStart[ahead.Run]) * perVoxel;
     const auto          runsOf = [&](SizeValueType other) {
       const SizeValueType begin = lineRunBegin[other];
-      Prefetch(runStart + begin);
-      Prefetch(component + begin);
+      const auto          guess =
+        begin + static_cast<SizeValueType>(static_cast<double>(lineRunBegin[other + 1] - begin) * along);
+      Prefetch(runStart + guess);
+      Prefetch(component + guess);
     };
-    runsOf(line);
     if (line >= plane)
     {
       runsOf(line - plane);
@@ -161,6 +167,14 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
     if (line + plane < lines)
     {
       runsOf(line + plane);
+    }
+    if (line >= 1)
+    {
+      runsOf(line - 1);
+    }
+    if (line + 1 < lines)
+    {
+      runsOf(line + 1);
     }
   };
   const auto runs = static_cast<SizeValueType>(last - first);
