@@ -122,7 +122,14 @@ public:
       for (SizeValueType line = labeling.GetSlabBeginLine(slab); line < labeling.GetSlabBeginLine(slab + 1); ++line)
       {
         CoordinateType * starts = labeling.GetLineRunStarts(line);
-        this->EncodeLine(buffer + line * length, length, [&starts](CoordinateType start) { *starts++ = start; });
+        if (uint64_t * bits = labeling.GetKeptLineBits(line))
+        {
+          this->EncodeLineAndBits(buffer + line * length, length, starts, bits);
+        }
+        else
+        {
+          this->EncodeLine(buffer + line * length, length, [&starts](CoordinateType start) { *starts++ = start; });
+        }
       }
     });
   }
@@ -139,6 +146,12 @@ public:
   static constexpr SizeValueType BlockBytes = 32768;
 
 private:
+  /** Writes the starts of the runs of the \a length voxels at \a values at \a starts, and
+   * the line's boundary bits (a bit per voxel where a run starts, 64 voxels a word) at
+   * \a bits: on the SIMD path from the same words of changes of side. */
+  void
+  EncodeLineAndBits(const TPixel * values, SizeValueType length, CoordinateType * starts, uint64_t * bits) const;
+
 #if defined(__SSE2__)
   /** The SIMD path: calls addChanges(change, base) with the bits of the voxels base to
    * base + 63 at which a run starts (voxel 0 excluded; all the calls in order) and returns

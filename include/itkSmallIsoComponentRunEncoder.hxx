@@ -73,6 +73,44 @@ RunEncoder<TPixel>::EncodeLine(const TPixel * values, SizeValueType length, TApp
   }
 }
 
+template <typename TPixel>
+void
+RunEncoder<TPixel>::EncodeLineAndBits(const TPixel *   values,
+                                      SizeValueType    length,
+                                      CoordinateType * starts,
+                                      uint64_t *       bits) const
+{
+  std::fill(bits, bits + (length + 63) / 64, uint64_t{ 0 });
+  // Voxel 0 starts the first run.
+  bits[0] = 1;
+#if defined(__SSE2__)
+  if constexpr (UsesSimd)
+  {
+    *starts++ = 0;
+    this->ForEachSideChange(values, length, [&](uint64_t change, SizeValueType base) {
+      // Changes come 64 voxels a word from a multiple of 64, or 16 at a time from
+      // anywhere near the end: those may reach into the next word.
+      const SizeValueType word = base / 64;
+      const unsigned int  shift = base % 64;
+      bits[word] |= change << shift;
+      if (shift != 0 && (change >> (64 - shift)) != 0)
+      {
+        bits[word + 1] |= change >> (64 - shift);
+      }
+      for (; change != 0; change &= change - 1)
+      {
+        *starts++ = static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change)));
+      }
+    });
+    return;
+  }
+#endif
+  this->EncodeLine(values, length, [&](CoordinateType start) {
+    *starts++ = start;
+    bits[start / 64] |= uint64_t{ 1 } << (start % 64);
+  });
+}
+
 #if defined(__SSE2__)
 template <typename TPixel>
 template <typename TChanges>

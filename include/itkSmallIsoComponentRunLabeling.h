@@ -59,7 +59,9 @@ namespace SmallIsoComponentDetail
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, 9 bytes per component, 8 bytes per candidate run
  * (LabelComponents(candidateSize)), and for each work unit the boundary bits of the lines
- * a line reaches back to (at most BitsCacheBytes). The arrays keep their memory from one Initialize() to
+ * a line reaches back to (at most BitsCacheBytes); where lines have BitsRunsPerWord / 2 runs
+ * per 64 voxels or more on average, the boundary bits of every line instead (one bit per
+ * voxel, at most 1/6 byte per run). The arrays keep their memory from one Initialize() to
  * the next (the run arrays take huge pages where the system offers them), so that
  * labelling an image like the last one takes no fresh memory; ReleaseMemory() gives it
  * back.
@@ -127,6 +129,16 @@ public:
   GetLineRunStarts(SizeValueType line)
   {
     return m_RunStart.data() + m_LineRunBegin[line];
+  }
+  /** Where \a line's boundary bits go (after ReserveRuns()), or nullptr when they are not
+   * kept: kept, for every line, where the lines have BitsRunsPerWord / 2 runs per 64 voxels
+   * or more on average (and lines are linked automatically); whoever writes the line's
+   * starts writes them too (bit 0 set, since a run starts there), as RunEncoder does from
+   * the words of changes of side it finds the starts with. */
+  uint64_t *
+  GetKeptLineBits(SizeValueType line)
+  {
+    return m_KeepLineBits ? m_KeptLineBits.data() + line * m_BitsWords : nullptr;
   }
   /** Links the runs inside each slab, the slabs shared among the members of \a team. */
   void
@@ -343,6 +355,9 @@ private:
                              const uint64_t * bitsB,
                              const uint64_t * bitsC,
                              const uint64_t * bitsD);
+  /** Writes \a line's boundary bits at \a bits from its starts. */
+  void
+  SetLineBitsFromStarts(SizeValueType line, uint64_t * bits) const;
   /** The boundary bits of \a line, from \a bits or written into it. */
   const uint64_t *
   BitsOf(LineBits & bits, SizeValueType line) const;
@@ -376,8 +391,11 @@ private:
   std::vector<LineRun>       m_CandidateRuns;
   SizeValueType              m_PeakMemoryInBytes{ 0 };
   /** Words of boundary bits per line, and slots of a ring. */
-  SizeValueType                 m_BitsWords{ 0 };
-  SizeValueType                 m_BitsSlots{ 0 };
+  SizeValueType m_BitsWords{ 0 };
+  SizeValueType m_BitsSlots{ 0 };
+  /** The boundary bits of every line, when kept (dense images), instead of rings. */
+  bool                          m_KeepLineBits{ false };
+  std::vector<uint64_t>         m_KeptLineBits;
   LineLinking                   m_LineLinking{ LineLinking::Automatic };
   SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };

@@ -80,6 +80,7 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
 
   // The arrays keep their memory: an image like the last one takes none afresh.
   m_NumberOfRuns = 0;
+  m_KeepLineBits = false;
   m_LineRunBegin.assign(m_NumberOfLines + 1, 0);
   m_LineFirstAbove.assign(m_NumberOfLines, 0);
   m_ComponentSize.clear();
@@ -114,6 +115,27 @@ RunLabeling::ReserveRuns()
   m_NumberOfRuns = numberOfRuns;
   m_RunStart.Reserve(numberOfRuns);
   m_RunLabel.Reserve(numberOfRuns);
+  // Dense lines are linked from their bits: keep every line's, written with its starts,
+  // rather than writing them again from the starts when they are linked. (The memory is
+  // kept for the next image, as the run arrays are.)
+  m_KeepLineBits =
+    m_LineLinking == LineLinking::Automatic && 2 * numberOfRuns >= BitsRunsPerWord * m_BitsWords * m_NumberOfLines;
+  if (m_KeepLineBits)
+  {
+    m_KeptLineBits.resize(m_NumberOfLines * m_BitsWords);
+  }
+}
+
+void
+RunLabeling::SetLineBitsFromStarts(SizeValueType line, uint64_t * bits) const
+{
+  std::fill(bits, bits + m_BitsWords, uint64_t{ 0 });
+  const CoordinateType * const start = m_RunStart.data();
+  const SizeValueType          end = m_LineRunBegin[line + 1];
+  for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run)
+  {
+    bits[start[run] / 64] |= uint64_t{ 1 } << (start[run] % 64);
+  }
 }
 
 void
@@ -456,18 +478,16 @@ RunLabeling::LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits
 const uint64_t *
 RunLabeling::BitsOf(LineBits & bits, SizeValueType line) const
 {
+  if (m_KeepLineBits)
+  {
+    return m_KeptLineBits.data() + line * m_BitsWords;
+  }
   const SizeValueType slot = line & (m_BitsSlots - 1);
   uint64_t * const    words = bits.Words.data() + slot * m_BitsWords;
   if (bits.Lines[slot] != line)
   {
     bits.Lines[slot] = line;
-    std::fill(words, words + m_BitsWords, uint64_t{ 0 });
-    const CoordinateType * const start = m_RunStart.data();
-    const SizeValueType          end = m_LineRunBegin[line + 1];
-    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run)
-    {
-      words[start[run] / 64] |= uint64_t{ 1 } << (start[run] % 64);
-    }
+    this->SetLineBitsFromStarts(line, words);
   }
   return words;
 }
@@ -485,7 +505,7 @@ RunLabeling::LinksByBits(SizeValueType lineA, SizeValueType lineB) const
   // (lineA comes after lineB: they share a slot only if they are a multiple of the ring
   // apart, never when the ring holds every line a line reaches back to.)
   const SizeValueType apart = lineA - lineB;
-  return !merge && (apart < m_BitsSlots || (apart & (m_BitsSlots - 1)) != 0);
+  return !merge && (m_KeepLineBits || apart < m_BitsSlots || (apart & (m_BitsSlots - 1)) != 0);
 }
 
 inline void
@@ -547,8 +567,8 @@ RunLabeling::LinkInsideSlab(SizeValueType slab)
   // past the slab's first plane and the first line of their plane are linked by squares.
   // (Slabs begin with a plane.)
   const SizeValueType linesPerRow = m_Size.size() == 3 ? m_Size[1] : 0;
-  const bool          squares = linesPerRow > 0 && !m_FullyConnected && m_BitsSlots > linesPerRow + 1;
-  SizeValueType       row = 0; // the line's coordinate along axis 1
+  const bool    squares = linesPerRow > 0 && !m_FullyConnected && (m_KeepLineBits || m_BitsSlots > linesPerRow + 1);
+  SizeValueType row = 0; // the line's coordinate along axis 1
   for (SizeValueType line = begin; line < end;
        ++line, m_LineNeighbors.Next(position), row = row + 1 == linesPerRow ? 0 : row + 1)
   {
@@ -683,7 +703,8 @@ RunLabeling::GetMemoryInBytes() const
   return m_RunStart.capacity() * sizeof(CoordinateType) + m_RunLabel.capacity() * sizeof(RunIndexType) +
          m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
          m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
-         m_CandidateRuns.capacity() * sizeof(LineRun) + this->GetLineBitsBytes();
+         m_CandidateRuns.capacity() * sizeof(LineRun) + m_KeptLineBits.capacity() * sizeof(uint64_t) +
+         this->GetLineBitsBytes();
 }
 
 SizeValueType
