@@ -318,7 +318,7 @@ private:
    * some). Decides which groups the below pass removes, frees the above pass's runs, and
    * returns one flag per component, set for the members of the removed groups. */
   std::vector<uint8_t>
-  GroupBelow(const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
+  GroupBelow(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
 
   /** The below pass: repairs the components flagged in \a removedBelow. \a removedAbove
    * flags the components the above pass removed: their voxels were counted as modified
@@ -333,15 +333,17 @@ private:
   /** Counts the components of \a side in its statistics and decides which ones its pass
    * removes: those with at most K voxels, when the pass runs and the output type has a
    * value on the other side (else their voxels are unrepairable). sizeOf(i) is the size of
-   * entry i, or 0 for an entry that is no component of the side; one flag per entry. */
+   * entry i, or 0 for an entry that is no component of the side; one flag per entry. The
+   * entries are shared among the work units of \a team in as many parts (sizeOf is called
+   * concurrently), and the parts' counts added. */
   template <typename TSizeOf>
   std::vector<uint8_t>
-  DecideRemovals(SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
+  DecideRemovals(WorkTeam & team, SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
 
   /** DecideRemovals() over the labelling's components, those of the other side being no
    * entries: one flag per component. */
   std::vector<uint8_t>
-  DecideComponentRemovals(const RunLabeling & labeling, SideEnum side);
+  DecideComponentRemovals(WorkTeam & team, const RunLabeling & labeling, SideEnum side);
 
   /** The runs of the components flagged in \a removed, of \a side, in run order. */
   std::vector<LineRun>

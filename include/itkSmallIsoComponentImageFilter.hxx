@@ -155,7 +155,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->EndPhase(aboveProgress);
 
   ProgressTransformer        groupProgress(0.8f, 0.85f, this);
-  const std::vector<uint8_t> removedBelow = this->GroupBelow(labeling, grouping, above);
+  const std::vector<uint8_t> removedBelow = this->GroupBelow(team, labeling, grouping, above);
   m_PhaseClock.End(PhaseEnum::Deciding);
   this->EndPhase(groupProgress);
 
@@ -412,7 +412,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
                                                                      BelowGrouping &     grouping) -> Removal
 {
   Removal above;
-  above.Removed = this->DecideComponentRemovals(labeling, SideEnum::Above);
+  above.Removed = this->DecideComponentRemovals(team, labeling, SideEnum::Above);
   above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
   m_PhaseClock.End(PhaseEnum::Deciding);
   // Finding the below components that the flipped ones join visits the same runs as
@@ -429,7 +429,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
 
 template <typename TInputImage, typename TOutputImage>
 std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLabeling & labeling,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam &          team,
+                                                                    const RunLabeling & labeling,
                                                                     BelowGrouping &     grouping,
                                                                     Removal &           above)
 {
@@ -439,7 +440,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
   if (!this->AbovePassFlips())
   {
     std::fill(above.Removed.begin(), above.Removed.end(), 0);
-    std::vector<uint8_t> removedBelow = this->DecideComponentRemovals(labeling, SideEnum::Below);
+    std::vector<uint8_t> removedBelow = this->DecideComponentRemovals(team, labeling, SideEnum::Below);
     m_ExtraMemory.Hold(
       labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, removedBelow);
     std::vector<LineRun>().swap(above.Runs);
@@ -452,7 +453,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(const RunLab
   std::vector<LineRun>().swap(above.Runs);
 
   const std::vector<uint8_t> removedGroup = this->DecideRemovals(
-    SideEnum::Below, groups.GroupSize.size(), [&groups](SizeValueType group) { return groups.GroupSize[group]; });
+    team, SideEnum::Below, groups.GroupSize.size(), [&groups](SizeValueType group) { return groups.GroupSize[group]; });
   std::vector<uint8_t> removedBelow(labeling.GetNumberOfComponents(), 0);
   for (SizeValueType component = 0; component < removedBelow.size(); ++component)
   {
@@ -497,49 +498,78 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
 template <typename TInputImage, typename TOutputImage>
 template <typename TSizeOf>
 std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(SideEnum      side,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam &    team,
+                                                                        SideEnum      side,
                                                                         SizeValueType entries,
                                                                         TSizeOf &&    sizeOf)
 {
   const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
   const bool                                                passRuns = m_Side == side || m_Side == SideEnum::Both;
-  const bool       repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
-  SideStatistics & statistics = this->StatisticsOf(side);
-  SmallIsoComponentDetail::SizeCounter sizes;
-  std::vector<uint8_t>                 removed(entries, 0);
-  for (SizeValueType i = 0; i < entries; ++i)
+  const bool           repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
+  SideStatistics &     statistics = this->StatisticsOf(side);
+  std::vector<uint8_t> removed(entries, 0);
+  // One part per work unit (each holds a SizeCounter), counts added in the order of the
+  // parts.
+  struct Part
   {
-    const SizeValueType size = sizeOf(i);
-    if (size == 0)
+    SmallIsoComponentDetail::SizeCounter Sizes;
+    SizeValueType                        Components{ 0 };
+    SizeValueType                        RemovedComponents{ 0 };
+    SizeValueType                        RemovedVoxels{ 0 };
+    SizeValueType                        UnrepairableVoxels{ 0 };
+  };
+  const SizeValueType parts = team.GetNumberOfChunks(entries) > 1 ? team.GetNumberOfWorkUnits() : 1;
+  std::vector<Part>   part(parts);
+  const SizeValueType maximum = m_EffectiveMaximumComponentSize;
+  team.ForEach(parts, [&](SizeValueType p) {
+    Part &              mine = part[p];
+    const SizeValueType end = entries * (p + 1) / parts;
+    for (SizeValueType i = entries * p / parts; i < end; ++i)
     {
-      continue;
+      const SizeValueType size = sizeOf(i);
+      if (size == 0)
+      {
+        continue;
+      }
+      ++mine.Components;
+      mine.Sizes.Add(size);
+      if (!passRuns || size > maximum)
+      {
+        continue;
+      }
+      if (!repairable)
+      {
+        mine.UnrepairableVoxels += size;
+        continue;
+      }
+      ++mine.RemovedComponents;
+      mine.RemovedVoxels += size;
+      removed[i] = 1;
     }
-    ++statistics.Components;
-    sizes.Add(size);
-    if (!passRuns || size > m_EffectiveMaximumComponentSize)
-    {
-      continue;
-    }
-    if (!repairable)
-    {
-      m_NumberOfUnrepairableVoxels += size;
-      continue;
-    }
-    ++statistics.RemovedComponents;
-    statistics.RemovedVoxels += size;
-    removed[i] = 1;
+  });
+  for (SizeValueType p = 1; p < parts; ++p)
+  {
+    part[0].Sizes.Add(part[p].Sizes);
   }
-  statistics.Histogram = sizes.Histogram();
+  for (const Part & done : part)
+  {
+    statistics.Components += done.Components;
+    statistics.RemovedComponents += done.RemovedComponents;
+    statistics.RemovedVoxels += done.RemovedVoxels;
+    m_NumberOfUnrepairableVoxels += done.UnrepairableVoxels;
+  }
+  statistics.Histogram = part[0].Sizes.Histogram();
   return removed;
 }
 
 template <typename TInputImage, typename TOutputImage>
 std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(const RunLabeling & labeling,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(WorkTeam &          team,
+                                                                                 const RunLabeling & labeling,
                                                                                  SideEnum            side)
 {
   const bool above = side == SideEnum::Above;
-  return this->DecideRemovals(side, labeling.GetNumberOfComponents(), [&labeling, above](SizeValueType index) {
+  return this->DecideRemovals(team, side, labeling.GetNumberOfComponents(), [&labeling, above](SizeValueType index) {
     const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
     return labeling.IsComponentAbove(component) == above ? labeling.GetComponentSize(component) : 0;
   });

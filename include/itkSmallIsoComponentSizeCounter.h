@@ -50,6 +50,10 @@ public:
     }
   }
 
+  /** Adds the counts of \a other. */
+  void
+  Add(const SizeCounter & other);
+
   /** Size -> number of components of that size, for the sizes added. */
   std::map<SizeValueType, SizeValueType>
   Histogram() const;

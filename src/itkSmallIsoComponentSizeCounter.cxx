@@ -21,6 +21,19 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+void
+SizeCounter::Add(const SizeCounter & other)
+{
+  for (SizeValueType size = 0; size < m_Small.size(); ++size)
+  {
+    m_Small[size] += other.m_Small[size];
+  }
+  for (const auto & entry : other.m_Large)
+  {
+    m_Large[entry.first] += entry.second;
+  }
+}
+
 std::map<SizeValueType, SizeValueType>
 SizeCounter::Histogram() const
 {

@@ -49,6 +49,20 @@ TEST(SmallIsoComponentSizeCounter, HistogramOfSmallAndLargeSizes)
   ++expected[SizeValueType{ 1 } << 40];
   EXPECT_EQ(counter.Histogram(), expected);
   EXPECT_TRUE(Detail::SizeCounter().Histogram().empty());
+
+  // Counters of two parts, added: the counts of both, small and large sizes.
+  Detail::SizeCounter                    first;
+  Detail::SizeCounter                    second;
+  std::map<SizeValueType, SizeValueType> both;
+  for (unsigned int i = 0; i < 5000; ++i)
+  {
+    const auto size =
+      static_cast<SizeValueType>(random.Chance(0.8) ? random.Between(1, 4095) : random.Between(4096, 4200));
+    (i % 3 == 0 ? first : second).Add(size);
+    ++both[size];
+  }
+  first.Add(second);
+  EXPECT_EQ(first.Histogram(), both);
 }
 
 TEST(SmallIsoComponentPeakMemory, PeakOfWhatThePhasesHold)
