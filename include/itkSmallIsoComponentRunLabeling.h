@@ -316,9 +316,10 @@ private:
 
   void
   Union(RunIndexType a, RunIndexType b);
-  /** Links the runs of two neighbouring lines, \a lineA after \a lineB. */
+  /** Links the runs of two neighbouring lines, \a lineA after \a lineB, from their boundary
+   * bits or (\a byBits false) by a merge. */
   void
-  LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits);
+  LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits, bool byBits);
   /** The same by a merge of the two lines' runs. */
   void
   MergeLines(SizeValueType lineA, SizeValueType lineB);
@@ -334,9 +335,9 @@ private:
   LinksByBits(SizeValueType lineA, SizeValueType lineB) const;
   /** Face connectivity in 3-D: links \a lineA with the line before it along axis 1 (lineA - 1),
    * whose runs it is linked with first, and with the line a plane before it
-   * (lineA - \a linesPerRow), both from boundary bits, in one pass. Returns false, having
-   * linked nothing, where either pair is linked by a merge. */
-  bool
+   * (lineA - \a linesPerRow), both from boundary bits (LinksByBits() for both pairs), in one
+   * pass. */
+  void
   LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits & bits);
   /** The same from the boundary bits of the four lines of the square: \a bitsA, of the line
    * before it (\a bitsB), of the line a plane before (\a bitsC) and of the line before that

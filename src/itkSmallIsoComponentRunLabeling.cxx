@@ -450,15 +450,11 @@ RunLabeling::LinkSquareBitsWithPopcount(SizeValueType    lineA,
 }
 #endif
 
-bool
+void
 RunLabeling::LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits & bits)
 {
   const SizeValueType lineB = lineA - 1;
   const SizeValueType lineC = lineA - linesPerRow;
-  if (!this->LinksByBits(lineA, lineB) || !this->LinksByBits(lineA, lineC))
-  {
-    return false;
-  }
   // The ring holds more lines than the square spans: the four lines' bits stay in it.
   const uint64_t * const bitsD = this->BitsOf(bits, lineC - 1);
   const uint64_t * const bitsC = this->BitsOf(bits, lineC);
@@ -468,11 +464,10 @@ RunLabeling::LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits
   if (HasPopcount())
   {
     this->LinkSquareBitsWithPopcount(lineA, linesPerRow, bitsA, bitsB, bitsC, bitsD);
-    return true;
+    return;
   }
 #endif
   this->LinkSquareBits(lineA, linesPerRow, bitsA, bitsB, bitsC, bitsD);
-  return true;
 }
 
 const uint64_t *
@@ -509,9 +504,9 @@ RunLabeling::LinksByBits(SizeValueType lineA, SizeValueType lineB) const
 }
 
 inline void
-RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits)
+RunLabeling::LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits, bool byBits)
 {
-  if (!this->LinksByBits(lineA, lineB))
+  if (!byBits)
   {
     this->MergeLines(lineA, lineB);
     return;
@@ -572,15 +567,29 @@ RunLabeling::LinkInsideSlab(SizeValueType slab)
   for (SizeValueType line = begin; line < end;
        ++line, m_LineNeighbors.Next(position), row = row + 1 == linesPerRow ? 0 : row + 1)
   {
-    if (squares && row > 0 && line >= begin + linesPerRow && this->LinkSquare(line, linesPerRow, *bits))
+    if (squares && row > 0 && line >= begin + linesPerRow)
     {
+      // The two earlier lines: by a square where both pairs are linked from their bits.
+      const SizeValueType before = line - 1;
+      const SizeValueType planeBefore = line - linesPerRow;
+      const bool          bitsBefore = this->LinksByBits(line, before);
+      const bool          bitsPlaneBefore = this->LinksByBits(line, planeBefore);
+      if (bitsBefore && bitsPlaneBefore)
+      {
+        this->LinkSquare(line, linesPerRow, *bits);
+      }
+      else
+      {
+        this->LinkLines(line, before, *bits, bitsBefore);
+        this->LinkLines(line, planeBefore, *bits, bitsPlaneBefore);
+      }
       continue;
     }
     // The earlier lines before the slab are its seam, linked by LinkRuns().
     m_LineNeighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
       if (earlier >= begin)
       {
-        this->LinkLines(line, earlier, *bits);
+        this->LinkLines(line, earlier, *bits, this->LinksByBits(line, earlier));
       }
     });
   }
@@ -603,7 +612,7 @@ RunLabeling::LinkRuns()
       m_LineNeighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
         if (earlier < begin)
         {
-          this->LinkLines(line, earlier, *bits);
+          this->LinkLines(line, earlier, *bits, this->LinksByBits(line, earlier));
         }
       });
     }
