@@ -345,9 +345,15 @@ private:
   std::vector<uint8_t>
   DecideComponentRemovals(WorkTeam & team, const RunLabeling & labeling, SideEnum side);
 
-  /** The runs of the components flagged in \a removed, of \a side, in run order. */
+  /** The runs of the components flagged in \a removed, of \a side, in run order, the
+   * candidates shared among the work units of \a team. \a heldBytes: what the pass holds
+   * besides the labelling and \a removed. */
   std::vector<LineRun>
-  CollectRemovedRuns(const RunLabeling & labeling, const std::vector<uint8_t> & removed, SideEnum side) const;
+  CollectRemovedRuns(WorkTeam &                   team,
+                     const RunLabeling &          labeling,
+                     const std::vector<uint8_t> & removed,
+                     SideEnum                     side,
+                     SizeValueType                heldBytes);
 
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
    * computed from the image before the pass, and marks it in the mask when there is one.

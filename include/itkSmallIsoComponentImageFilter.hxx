@@ -413,7 +413,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
 {
   Removal above;
   above.Removed = this->DecideComponentRemovals(team, labeling, SideEnum::Above);
-  above.Runs = this->CollectRemovedRuns(labeling, above.Removed, SideEnum::Above);
+  above.Runs = this->CollectRemovedRuns(team, labeling, above.Removed, SideEnum::Above, grouping.GetScratchBytes());
   m_PhaseClock.End(PhaseEnum::Deciding);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
@@ -478,7 +478,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
 {
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
-  const std::vector<LineRun> runs = this->CollectRemovedRuns(labeling, removedBelow, SideEnum::Below);
+  const std::vector<LineRun> runs =
+    this->CollectRemovedRuns(team, labeling, removedBelow, SideEnum::Below, removedAbove.capacity());
   m_PhaseClock.End(PhaseEnum::Deciding);
   this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
   // Every voxel of a removed group is written; those of its flipped members were written
@@ -577,13 +578,22 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals
 
 template <typename TInputImage, typename TOutputImage>
 auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(const RunLabeling &          labeling,
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(WorkTeam &                   team,
+                                                                            const RunLabeling &          labeling,
                                                                             const std::vector<uint8_t> & removed,
-                                                                            SideEnum side) const -> std::vector<LineRun>
+                                                                            SideEnum                     side,
+                                                                            SizeValueType                heldBytes)
+  -> std::vector<LineRun>
 {
+  if (this->StatisticsOf(side).RemovedComponents == 0)
+  {
+    return std::vector<LineRun>();
+  }
   // Every run of a removed component is a candidate (it has at most K voxels).
-  return this->StatisticsOf(side).RemovedComponents > 0 ? labeling.CollectCandidateRuns(removed)
-                                                        : std::vector<LineRun>();
+  SizeValueType        markedBytes = 0;
+  std::vector<LineRun> runs = labeling.CollectCandidateRuns(removed, team, markedBytes);
+  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + heldBytes + markedBytes, removed, runs);
+  return runs;
 }
 
 template <typename TInputImage, typename TOutputImage>

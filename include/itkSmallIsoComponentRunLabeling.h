@@ -189,6 +189,12 @@ public:
    * have at most candidateSize voxels. Visits the candidates only, not every run. */
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
+  /** The same, the candidates shared among the work units of \a team in as many parts:
+   * each part marks its selected candidates (one byte per candidate, held meanwhile) and
+   * counts them, then copies them to its place in the result. \a markedBytes: the bytes of
+   * the marks (0 with one part). */
+  std::vector<LineRun>
+  CollectCandidateRuns(const std::vector<uint8_t> & selected, WorkTeam & team, SizeValueType & markedBytes) const;
 
   /** The runs, read-only, as arrays, for the loops over many runs: valid from
    * AssembleRuns() until the next Initialize(). */

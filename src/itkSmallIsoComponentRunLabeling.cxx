@@ -706,6 +706,53 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -
   return runs;
 }
 
+auto
+RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
+                                  WorkTeam &                   team,
+                                  SizeValueType &              markedBytes) const -> std::vector<LineRun>
+{
+  const SizeValueType candidates = m_CandidateRuns.size();
+  const SizeValueType parts = team.GetNumberOfChunks(candidates) > 1 ? team.GetNumberOfWorkUnits() : 1;
+  markedBytes = parts > 1 ? candidates : 0;
+  if (parts == 1)
+  {
+    return this->CollectCandidateRuns(selected);
+  }
+  const RunIndexType * const label = m_RunLabel.data();
+  const LineRun * const      candidate = m_CandidateRuns.data();
+  constexpr SizeValueType    Ahead = 2 * PrefetchRunsAhead;
+  std::vector<uint8_t>       marked(candidates);
+  std::vector<SizeValueType> partBegin(parts + 1, 0);
+  team.ForEach(parts, [&](SizeValueType part) {
+    const SizeValueType end = candidates * (part + 1) / parts;
+    SizeValueType       count = 0;
+    for (SizeValueType i = candidates * part / parts; i < end; ++i)
+    {
+      if (i + Ahead < end)
+      {
+        Prefetch(label + candidate[i + Ahead].Run);
+      }
+      marked[i] = selected[label[candidate[i].Run]];
+      count += marked[i];
+    }
+    partBegin[part + 1] = count;
+  });
+  std::partial_sum(partBegin.begin(), partBegin.end(), partBegin.begin());
+  std::vector<LineRun> runs(partBegin[parts]);
+  team.ForEach(parts, [&](SizeValueType part) {
+    const SizeValueType end = candidates * (part + 1) / parts;
+    LineRun *           out = runs.data() + partBegin[part];
+    for (SizeValueType i = candidates * part / parts; i < end; ++i)
+    {
+      if (marked[i])
+      {
+        *out++ = candidate[i];
+      }
+    }
+  });
+  return runs;
+}
+
 SizeValueType
 RunLabeling::GetMemoryInBytes() const
 {

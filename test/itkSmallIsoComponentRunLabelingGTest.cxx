@@ -196,12 +196,24 @@ CheckRandomVolume(RandomSource &                      random,
           }
         }
       }
-      const auto collected = labeling.CollectCandidateRuns(selected);
-      ASSERT_EQ(collected.size(), expected.size());
-      for (SizeValueType i = 0; i < expected.size(); ++i)
+      // Alone, and shared among the work units of teams of one to three.
+      std::vector<std::vector<RunLabeling::LineRun>> collections{ labeling.CollectCandidateRuns(selected) };
+      for (const unsigned int units : { 1u, 2u, 3u })
       {
-        ASSERT_EQ(collected[i].Run, expected[i].Run);
-        ASSERT_EQ(collected[i].Line, expected[i].Line);
+        auto threader = itk::MultiThreaderBase::New();
+        threader->SetNumberOfWorkUnits(units);
+        itk::SmallIsoComponentDetail::WorkTeam team(threader, units);
+        SizeValueType                          markedBytes = 0;
+        collections.push_back(labeling.CollectCandidateRuns(selected, team, markedBytes));
+      }
+      for (const auto & collected : collections)
+      {
+        ASSERT_EQ(collected.size(), expected.size());
+        for (SizeValueType i = 0; i < expected.size(); ++i)
+        {
+          ASSERT_EQ(collected[i].Run, expected[i].Run);
+          ASSERT_EQ(collected[i].Line, expected[i].Line);
+        }
       }
 
       // The memory it reports covers the bytes per run, line, component and candidate
