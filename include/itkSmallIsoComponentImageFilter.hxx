@@ -439,7 +439,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam &  
   // components themselves, and no grouping is needed.
   if (!this->AbovePassFlips())
   {
-    std::fill(above.Removed.begin(), above.Removed.end(), 0);
     std::vector<uint8_t> removedBelow = this->DecideComponentRemovals(team, labeling, SideEnum::Below);
     m_ExtraMemory.Hold(
       labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, removedBelow);
@@ -483,9 +482,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
   m_PhaseClock.End(PhaseEnum::Deciding);
   this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
   // Every voxel of a removed group is written; those of its flipped members were written
-  // by the above pass already.
+  // by the above pass already. (Without flips a group is one below component, and the
+  // flags of the two passes mark components of different sides.)
   SizeValueType writtenAgain = 0;
-  for (SizeValueType component = 0; component < removedBelow.size(); ++component)
+  for (SizeValueType component = 0; this->AbovePassFlips() && component < removedBelow.size(); ++component)
   {
     if (removedBelow[component] && removedAbove[component])
     {
