@@ -97,7 +97,10 @@ namespace itk
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
  * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel;
- * GetPeakExtraMemoryInBytes() reports the peak of the last Update(). Real volumes have
+ * with more than one work unit, one byte per candidate run while the removed runs are
+ * collected; where lines have three runs or more per 64 voxels on average, the lines'
+ * boundary bits too (1/8 byte per voxel). GetPeakExtraMemoryInBytes() reports the peak of
+ * the last Update(). Real volumes have
  * far fewer runs than voxels; a volume whose sides alternate at every voxel has one run
  * per voxel. An image of at least 2^30 voxels is swept in slabs instead (see "Large images"
  * below): its working memory is then a window of planes, a few hundredths of a byte per voxel
