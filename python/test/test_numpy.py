@@ -148,7 +148,8 @@ def test_samples_not_aligned_for_their_dtype_are_copied_and_refused_in_place(dty
 
 
 def test_the_gil_is_released_while_the_filter_runs():
-    volume = np.random.default_rng(5).random((160, 160, 160), dtype=np.float32)
+    # Dense noise, large enough that the call takes well over the 0.05 s asked below.
+    volume = np.random.default_rng(5).random((224, 224, 224), dtype=np.float32)
     ticks = []
     running = threading.Event()
 
