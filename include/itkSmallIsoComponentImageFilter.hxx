@@ -485,11 +485,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
   // by the above pass already. (Without flips a group is one below component, and the
   // flags of the two passes mark components of different sides.)
   SizeValueType writtenAgain = 0;
-  for (SizeValueType component = 0; this->AbovePassFlips() && component < removedBelow.size(); ++component)
+  if (this->AbovePassFlips())
   {
-    if (removedBelow[component] && removedAbove[component])
+    for (SizeValueType component = 0; component < removedBelow.size(); ++component)
     {
-      writtenAgain += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
+      if (removedBelow[component] && removedAbove[component])
+      {
+        writtenAgain += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
+      }
     }
   }
   m_NumberOfModifiedVoxels += m_BelowStatistics.RemovedVoxels - writtenAgain;
@@ -519,13 +522,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
     SizeValueType                        RemovedVoxels{ 0 };
     SizeValueType                        UnrepairableVoxels{ 0 };
   };
-  const SizeValueType parts = team.GetNumberOfChunks(entries) > 1 ? team.GetNumberOfWorkUnits() : 1;
+  const SizeValueType parts = team.GetNumberOfParts(entries);
   std::vector<Part>   part(parts);
   const SizeValueType maximum = m_EffectiveMaximumComponentSize;
   team.ForEach(parts, [&](SizeValueType p) {
     Part &              mine = part[p];
-    const SizeValueType end = entries * (p + 1) / parts;
-    for (SizeValueType i = entries * p / parts; i < end; ++i)
+    const SizeValueType end = WorkTeam::PartBegin(entries, p + 1, parts);
+    for (SizeValueType i = WorkTeam::PartBegin(entries, p, parts); i < end; ++i)
     {
       const SizeValueType size = sizeOf(i);
       if (size == 0)

@@ -322,6 +322,11 @@ private:
 
   void
   Union(RunIndexType a, RunIndexType b);
+  /** Joins, for each set bit of \a starts in a word of two lines' boundary bits \a a and
+   * \a b, the runs of the two lines holding that voxel (\a baseA and \a baseB: each line's
+   * last run before the word). */
+  void
+  UnionAt(uint64_t starts, uint64_t a, RunIndexType baseA, uint64_t b, RunIndexType baseB);
   /** Links the runs of two neighbouring lines, \a lineA after \a lineB, from their boundary
    * bits or (\a byBits false) by a merge. */
   void

@@ -81,7 +81,7 @@ private:
   SizeValueType
   ChunkBegin(SizeValueType chunk) const
   {
-    return chunk * m_Runs.size() / m_NumberOfChunks;
+    return WorkTeam::PartBegin(m_Runs.size(), chunk, m_NumberOfChunks);
   }
 
   /** Index of the first voxel of \a run in the image buffer. */

@@ -103,6 +103,19 @@ public:
     const SizeValueType minimum = m_NumberOfHelpers > 0 ? MinimumItemsToShareWithHelpers : MinimumItemsToShare;
     return items < minimum ? 1 : std::min<SizeValueType>(items, ChunksPerWorkUnit * m_NumberOfWorkUnits);
   }
+  /** How many parts a loop over \a items cheap items that keeps state of its own per part
+   * is cut into: one per work unit where GetNumberOfChunks() would share the loop, else one. */
+  SizeValueType
+  GetNumberOfParts(SizeValueType items) const
+  {
+    return this->GetNumberOfChunks(items) > 1 ? m_NumberOfWorkUnits : 1;
+  }
+  /** The first of \a items in \a part of \a parts equal parts (part == parts gives items). */
+  static SizeValueType
+  PartBegin(SizeValueType items, SizeValueType part, SizeValueType parts)
+  {
+    return items * part / parts;
+  }
 
   /** Calls function(item) once for every item in [0, items), each item taken by the
    * next free member of the team. Returns when every item has been handled. */

@@ -302,7 +302,31 @@ PrefixParity(uint64_t bits)
   bits ^= bits << 32;
   return bits;
 }
+
+/** The voxels of a word of two lines, whose boundary bits there are \a a and \a b, at which
+ * their runs are on opposite sides. \a opposite tells (all ones, or none) whether they are
+ * before the word, and is set to whether they are after it. Voxel 0 starts both lines: no
+ * change of side there. */
+SMALLISO_ALWAYS_INLINE uint64_t
+SidesApart(uint64_t a, uint64_t b, SizeValueType word, uint64_t & opposite)
+{
+  const uint64_t flips = word == 0 ? (a ^ b) & ~uint64_t{ 1 } : a ^ b;
+  const uint64_t apart = PrefixParity(flips) ^ opposite;
+  opposite = static_cast<uint64_t>(-static_cast<int64_t>(apart >> 63));
+  return apart;
+}
 } // namespace
+
+SMALLISO_ALWAYS_INLINE void
+RunLabeling::UnionAt(uint64_t starts, uint64_t a, RunIndexType baseA, uint64_t b, RunIndexType baseB)
+{
+  for (; starts != 0; starts &= starts - 1)
+  {
+    const uint64_t upTo = starts ^ (starts - 1);
+    this->Union(baseA + static_cast<RunIndexType>(CountBits(a & upTo)),
+                baseB + static_cast<RunIndexType>(CountBits(b & upTo)));
+  }
+}
 
 SMALLISO_ALWAYS_INLINE void
 RunLabeling::LinkLineBits(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB)
@@ -324,16 +348,8 @@ RunLabeling::LinkLineBits(SizeValueType lineA, const uint64_t * bitsA, SizeValue
   {
     const uint64_t a = bitsA[word];
     const uint64_t b = bitsB[word];
-    // Voxel 0 starts both lines: no change of side there.
-    const uint64_t flips = word == 0 ? (a ^ b) & ~uint64_t{ 1 } : a ^ b;
-    const uint64_t apart = PrefixParity(flips) ^ opposite;
-    opposite = static_cast<uint64_t>(-static_cast<int64_t>(apart >> 63));
-    for (uint64_t starts = (a | b) & ~apart; starts != 0; starts &= starts - 1)
-    {
-      const uint64_t upTo = starts ^ (starts - 1);
-      this->Union(baseA + static_cast<RunIndexType>(CountBits(a & upTo)),
-                  baseB + static_cast<RunIndexType>(CountBits(b & upTo)));
-    }
+    const uint64_t apart = SidesApart(a, b, word, opposite);
+    this->UnionAt((a | b) & ~apart, a, baseA, b, baseB);
     if (m_FullyConnected)
     {
       for (uint64_t ties = a & b & apart & (word == 0 ? ~uint64_t{ 1 } : ~uint64_t{ 0 }); ties != 0; ties &= ties - 1)
@@ -395,14 +411,9 @@ RunLabeling::LinkSquareBits(SizeValueType    lineA,
     const uint64_t a = bitsA[word];
     const uint64_t b = bitsB[word];
     const uint64_t c = bitsC[word];
-    // Voxel 0 starts every line: no change of side there.
-    const uint64_t notFirst = word == 0 ? ~uint64_t{ 1 } : ~uint64_t{ 0 };
-    const uint64_t apartB = PrefixParity((a ^ b) & notFirst) ^ oppositeB;
-    const uint64_t apartC = PrefixParity((a ^ c) & notFirst) ^ oppositeC;
-    const uint64_t apartD = PrefixParity((a ^ bitsD[word]) & notFirst) ^ oppositeD;
-    oppositeB = static_cast<uint64_t>(-static_cast<int64_t>(apartB >> 63));
-    oppositeC = static_cast<uint64_t>(-static_cast<int64_t>(apartC >> 63));
-    oppositeD = static_cast<uint64_t>(-static_cast<int64_t>(apartD >> 63));
+    const uint64_t apartB = SidesApart(a, b, word, oppositeB);
+    const uint64_t apartC = SidesApart(a, c, word, oppositeC);
+    const uint64_t apartD = SidesApart(a, bitsD[word], word, oppositeD);
 
     const uint64_t joinedB = (a | b) & ~apartB;
     for (uint64_t starts = a & joinedB; starts != 0; starts &= starts - 1)
@@ -411,12 +422,7 @@ RunLabeling::LinkSquareBits(SizeValueType    lineA,
       parent[baseA + static_cast<RunIndexType>(CountBits(a & upTo))] =
         parent[baseB + static_cast<RunIndexType>(CountBits(b & upTo))];
     }
-    for (uint64_t starts = joinedB & ~a; starts != 0; starts &= starts - 1)
-    {
-      const uint64_t upTo = starts ^ (starts - 1);
-      this->Union(baseA + static_cast<RunIndexType>(CountBits(a & upTo)),
-                  baseB + static_cast<RunIndexType>(CountBits(b & upTo)));
-    }
+    this->UnionAt(joinedB & ~a, a, baseA, b, baseB);
 
     // The voxels where B, C and D are all on A's side; an overlap of A and C starting at a
     // voxel is left out if one of its first three voxels is such a voxel (a voxel past the
@@ -425,12 +431,7 @@ RunLabeling::LinkSquareBits(SizeValueType    lineA,
     const uint64_t square = ~(apartB | apartC | apartD);
     const uint64_t on1 = ~(boundaries >> 1);
     const uint64_t joinedAlready = square | ((square >> 1) & on1) | ((square >> 2) & on1 & ~(boundaries >> 2));
-    for (uint64_t starts = boundaries & ~apartC & ~joinedAlready; starts != 0; starts &= starts - 1)
-    {
-      const uint64_t upTo = starts ^ (starts - 1);
-      this->Union(baseA + static_cast<RunIndexType>(CountBits(a & upTo)),
-                  baseC + static_cast<RunIndexType>(CountBits(c & upTo)));
-    }
+    this->UnionAt(boundaries & ~apartC & ~joinedAlready, a, baseA, c, baseC);
     baseA += static_cast<RunIndexType>(CountBits(a));
     baseB += static_cast<RunIndexType>(CountBits(b));
     baseC += static_cast<RunIndexType>(CountBits(c));
@@ -712,7 +713,7 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
                                   SizeValueType &              markedBytes) const -> std::vector<LineRun>
 {
   const SizeValueType candidates = m_CandidateRuns.size();
-  const SizeValueType parts = team.GetNumberOfChunks(candidates) > 1 ? team.GetNumberOfWorkUnits() : 1;
+  const SizeValueType parts = team.GetNumberOfParts(candidates);
   markedBytes = parts > 1 ? candidates : 0;
   if (parts == 1)
   {
@@ -724,9 +725,9 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
   std::vector<uint8_t>       marked(candidates);
   std::vector<SizeValueType> partBegin(parts + 1, 0);
   team.ForEach(parts, [&](SizeValueType part) {
-    const SizeValueType end = candidates * (part + 1) / parts;
+    const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
     SizeValueType       count = 0;
-    for (SizeValueType i = candidates * part / parts; i < end; ++i)
+    for (SizeValueType i = WorkTeam::PartBegin(candidates, part, parts); i < end; ++i)
     {
       if (i + Ahead < end)
       {
@@ -740,9 +741,9 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
   std::partial_sum(partBegin.begin(), partBegin.end(), partBegin.begin());
   std::vector<LineRun> runs(partBegin[parts]);
   team.ForEach(parts, [&](SizeValueType part) {
-    const SizeValueType end = candidates * (part + 1) / parts;
+    const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
     LineRun *           out = runs.data() + partBegin[part];
-    for (SizeValueType i = candidates * part / parts; i < end; ++i)
+    for (SizeValueType i = WorkTeam::PartBegin(candidates, part, parts); i < end; ++i)
     {
       if (marked[i])
       {

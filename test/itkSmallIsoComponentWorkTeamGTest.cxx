@@ -330,6 +330,25 @@ TEST(SmallIsoComponentWorkTeam, CheapLoopsAreSharedFromFewerItemsWhenHelpersAreA
   EXPECT_EQ(withoutHelpers.GetNumberOfChunks(Team::MinimumItemsToShare), 3 * Team::ChunksPerWorkUnit);
   const Team alone(platform, 1);
   EXPECT_EQ(alone.GetNumberOfChunks(Team::MinimumItemsToShare), Team::ChunksPerWorkUnit);
+  // Loops with state per part: one part per work unit where the loop is shared, else one.
+  EXPECT_EQ(withoutHelpers.GetNumberOfParts(Team::MinimumItemsToShare - 1), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfParts(Team::MinimumItemsToShare), 3u);
+  EXPECT_EQ(alone.GetNumberOfParts(Team::MinimumItemsToShare), 1u);
+  // The parts cover the items in order, without gaps or overlaps, and differ by one at most.
+  for (const itk::SizeValueType items : { 0u, 1u, 7u, 1000u })
+  {
+    for (const itk::SizeValueType parts : { 1u, 2u, 3u })
+    {
+      EXPECT_EQ(Team::PartBegin(items, 0, parts), 0u);
+      EXPECT_EQ(Team::PartBegin(items, parts, parts), items);
+      for (itk::SizeValueType part = 0; part < parts; ++part)
+      {
+        const itk::SizeValueType size = Team::PartBegin(items, part + 1, parts) - Team::PartBegin(items, part, parts);
+        EXPECT_LE(size, items / parts + 1);
+        EXPECT_GE(size, items / parts);
+      }
+    }
+  }
 
   // Helpers are awake already: loops are shared from 256 items.
   auto       pool = PoolThreader(2);
