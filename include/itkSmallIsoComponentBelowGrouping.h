@@ -38,7 +38,10 @@ namespace SmallIsoComponentDetail
  * ones. JoinNeighbors() is given the runs of the flipped components, in ranges that may be
  * joined concurrently (a lock-free union-find over components); it visits no run of the
  * other components and reads no voxel, so that it can share a loop with the repair of the
- * same runs. Finish() then numbers the groups.
+ * same runs. It finds a flipped run's neighbours in the neighbouring lines from the lines'
+ * boundary bits where the labelling keeps them (dense images: a bit per voxel is read
+ * instead of four bytes per run), else by a search of the run starts near where the runs
+ * would be if spread evenly. Finish() then numbers the groups.
  *
  * \ingroup SmallIsoComponent
  */
@@ -82,6 +85,14 @@ public:
   GetScratchBytes() const;
 
 private:
+  /** JoinNeighbors(), the runs of the neighbouring lines found from the lines' boundary
+   * bits (\a VByBits, where they are kept) or from the run starts. */
+  template <bool VByBits>
+  void
+  JoinNeighborsOf(const LineRun * first, const LineRun * last);
+  /** JoinNeighborsOf<true>() compiled for a processor with a bit-count instruction. */
+  void
+  JoinNeighborsByBitsWithPopcount(const LineRun * first, const LineRun * last);
   ComponentIndexType
   Find(ComponentIndexType component);
   void

@@ -35,6 +35,10 @@ Prefetch(const void * address)
 {
 #if defined(__GNUC__)
   __builtin_prefetch(address);
+  // GCC takes the prefetch for an operation without effects: a function (such as a lambda)
+  // that only prefetches would count as one without effects too, and the calls to it not
+  // yet inlined would be dropped. An empty statement that counts as an effect keeps them.
+  __asm__ __volatile__("" : : "r"(address));
 #else
   (void)address;
 #endif

@@ -209,6 +209,10 @@ public:
     /** Whether each line's first run is above (then its runs alternate). */
     const uint8_t * LineFirstAbove;
     SizeValueType   LineLength;
+    /** Each line's boundary bits (a bit per voxel, set where a run starts; BitsWords words a
+     * line) where they are kept (see GetKeptLineBits()), else nullptr. */
+    const uint64_t * Bits;
+    SizeValueType    BitsWords;
 
     /** One past the last voxel of \a run, whose line is \a line. */
     SizeValueType
@@ -237,11 +241,51 @@ public:
       }
       return static_cast<SizeValueType>(holder - Start);
     }
+    /** Where among \a line's runs the run holding voxel \a x would be if the runs were
+     * spread evenly along the line (\a perVoxel: 1 / LineLength). */
+    SizeValueType
+    GuessRunHolding(SizeValueType line, SizeValueType x, double perVoxel) const
+    {
+      const SizeValueType begin = LineBegin[line];
+      return begin + static_cast<SizeValueType>(static_cast<double>(LineBegin[line + 1] - begin) *
+                                                static_cast<double>(x) * perVoxel);
+    }
+    /** How far from a guess RunHolding() with a guess looks first. */
+    static constexpr SizeValueType NearRuns = 16;
+    /** RunHolding(), searching first the runs within NearRuns of \a guess (a run of
+     * \a line): where runs are spread about evenly, only the cache lines near the guess are
+     * read, and they can be requested ahead. */
+    SizeValueType
+    RunHolding(SizeValueType line, SizeValueType x, SizeValueType guess) const
+    {
+      const SizeValueType begin = LineBegin[line];
+      const SizeValueType end = LineBegin[line + 1];
+      const SizeValueType low = guess > begin + NearRuns ? guess - NearRuns : begin;
+      const SizeValueType high = std::min(end, guess + NearRuns + 1);
+      if (low >= high || Start[low] > x || (high < end && Start[high] <= x))
+      {
+        return this->RunHolding(line, x);
+      }
+      const CoordinateType * holder = Start + low;
+      for (SizeValueType candidates = high - low; candidates > 1;)
+      {
+        const SizeValueType half = candidates / 2;
+        holder = holder[half] <= x ? holder + half : holder;
+        candidates -= half;
+      }
+      return static_cast<SizeValueType>(holder - Start);
+    }
   };
   RunTable
   GetRunTable() const
   {
-    return { m_RunStart.data(), m_RunLabel.data(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0] };
+    return { m_RunStart.data(),
+             m_RunLabel.data(),
+             m_LineRunBegin.data(),
+             m_LineFirstAbove.data(),
+             m_Size[0],
+             m_KeepLineBits ? m_KeptLineBits.data() : nullptr,
+             m_BitsWords };
   }
 
   /** The image extent given to Initialize() (axis 0 along the lines). */
@@ -407,7 +451,7 @@ private:
   SizeValueType m_BitsSlots{ 0 };
   /** The boundary bits of every line, when kept (dense images), instead of rings. */
   bool                          m_KeepLineBits{ false };
-  std::vector<uint64_t>         m_KeptLineBits;
+  LargeArray<uint64_t>          m_KeptLineBits;
   LineLinking                   m_LineLinking{ LineLinking::Automatic };
   SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };

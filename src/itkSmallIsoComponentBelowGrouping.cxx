@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkSmallIsoComponentBelowGrouping.h"
+#include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
 
@@ -87,8 +88,9 @@ BelowGrouping::Join(ComponentIndexType a, ComponentIndexType b)
   }
 }
 
-void
-BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
+template <bool VByBits>
+SMALLISO_ALWAYS_INLINE void
+BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
 {
   // Each flipped run touches the runs beside it in its line (runs alternate sides, so
   // those are below) and the below runs it overlaps in the neighbouring lines; its
@@ -114,51 +116,89 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
       this->Join(flipped, below);
     }
   };
+  const SizeValueType lines = m_Labeling.GetNumberOfLines();
+  const SizeValueType plane = m_Labeling.GetSize().size() > 1 ? m_Labeling.GetSize()[1] : 1;
+  const double        perVoxel = 1.0 / static_cast<double>(table.LineLength);
   // The below runs of line \a other that overlap [from, to): sides alternate, so every
-  // other run from the run that holds from if it is below, else from the run after it.
+  // other run from the run that holds from if it is below, else from the run after it, up
+  // to the run that holds to - 1. With the lines' boundary bits, a run's index is its
+  // line's first run plus the count of the line's boundaries up to it, less one, and the
+  // run starts (four bytes a run, where the bits are a bit a voxel) are not read.
   const auto joinOverlapping =
     [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to) {
-      const SizeValueType otherEnd = lineRunBegin[other + 1];
-      SizeValueType       below = table.RunHolding(other, from);
+      SizeValueType below;
+      SizeValueType end;
+      if constexpr (VByBits)
+      {
+        const uint64_t * const bits = table.Bits + other * table.BitsWords;
+        const SizeValueType    lastVoxel = std::min(to, table.LineLength) - 1;
+        SizeValueType          word = 0;
+        SizeValueType          count = lineRunBegin[other] - 1;
+        for (; word < from / 64; ++word)
+        {
+          count += CountBits(bits[word]);
+        }
+        below = count + CountBits(bits[word] & BitsUpTo(from % 64));
+        for (; word < lastVoxel / 64; ++word)
+        {
+          count += CountBits(bits[word]);
+        }
+        end = count + CountBits(bits[word] & BitsUpTo(lastVoxel % 64)) + 1;
+      }
+      else
+      {
+        below = table.RunHolding(other, from, table.GuessRunHolding(other, from, perVoxel));
+        end = lineRunBegin[other + 1];
+      }
       below += table.IsAbove(below, other) ? 1 : 0;
-      for (; below < otherEnd && runStart[below] < to; below += 2)
+      for (; below < end && (VByBits || runStart[below] < to); below += 2)
       {
         join(flipped, component[below]);
       }
     };
   // The runs ahead and their neighbouring lines are requested early: first the run itself
-  // and where the lines' runs begin, then (a few runs later, once that has arrived) the
-  // lines' runs where the run's start falls if runs were spread evenly along the line (the
-  // search for the run that holds it ends near there).
-  const SizeValueType lines = m_Labeling.GetNumberOfLines();
-  const SizeValueType plane = m_Labeling.GetSize().size() > 1 ? m_Labeling.GetSize()[1] : 1;
-  const double        perVoxel = 1.0 / static_cast<double>(table.LineLength);
-  const auto          prefetchLines = [&](const LineRun & ahead) {
+  // and where the lines' runs (and bits) begin, then (a few runs later, once that has
+  // arrived) the lines' runs near where the run's start falls if runs were spread evenly
+  // along the line, where the search for the run that holds it looks first.
+  const auto prefetchLine = [&](SizeValueType line) {
+    Prefetch(lineRunBegin + line);
+    Prefetch(lineFirstAbove + line);
+    if constexpr (VByBits)
+    {
+      Prefetch(table.Bits + line * table.BitsWords);
+    }
+  };
+  const auto prefetchLines = [&](const LineRun & ahead) {
     const SizeValueType line = ahead.Line;
     Prefetch(runStart + ahead.Run);
     Prefetch(component + ahead.Run);
-    Prefetch(lineRunBegin + line);
-    Prefetch(lineFirstAbove + line);
+    prefetchLine(line);
     if (line >= plane)
     {
-      Prefetch(lineRunBegin + line - plane);
-      Prefetch(lineFirstAbove + line - plane);
+      prefetchLine(line - plane);
     }
     if (line + plane < lines)
     {
-      Prefetch(lineRunBegin + line + plane);
-      Prefetch(lineFirstAbove + line + plane);
+      prefetchLine(line + plane);
     }
   };
   const auto prefetchRuns = [&](const LineRun & ahead) {
-    const SizeValueType line = ahead.Line;
-    const double        along = static_cast<double>(runStart[ahead.Run]) * perVoxel;
-    const auto          runsOf = [&](SizeValueType other) {
-      const SizeValueType begin = lineRunBegin[other];
-      const auto          guess =
-        begin + static_cast<SizeValueType>(static_cast<double>(lineRunBegin[other + 1] - begin) * along);
-      Prefetch(runStart + guess);
+    const SizeValueType     line = ahead.Line;
+    const SizeValueType     start = runStart[ahead.Run];
+    const SizeValueType     from = start >= allowance ? start - allowance : 0;
+    constexpr SizeValueType near = RunLabeling::RunTable::NearRuns;
+    const auto              runsOf = [&](SizeValueType other) {
+      const SizeValueType guess = table.GuessRunHolding(other, from, perVoxel);
+      const SizeValueType low = guess >= near ? guess - near : 0;
+      if constexpr (!VByBits)
+      {
+        Prefetch(runStart + low);
+        Prefetch(runStart + guess);
+        Prefetch(runStart + guess + near);
+      }
+      Prefetch(component + low);
       Prefetch(component + guess);
+      Prefetch(component + guess + near);
     };
     if (line >= plane)
     {
@@ -208,6 +248,33 @@ BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
     neighbors.ForEachNeighbor(position, [&](SizeValueType other) { joinOverlapping(flipped, other, from, to); });
   }
 }
+
+void
+BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
+{
+  if (m_Labeling.GetRunTable().Bits == nullptr)
+  {
+    this->JoinNeighborsOf<false>(first, last);
+    return;
+  }
+#if defined(SMALLISO_POPCOUNT_DISPATCH)
+  if (HasPopcount())
+  {
+    this->JoinNeighborsByBitsWithPopcount(first, last);
+    return;
+  }
+#endif
+  this->JoinNeighborsOf<true>(first, last);
+}
+
+#if defined(SMALLISO_POPCOUNT_DISPATCH)
+// The same, compiled for processors that count bits in one instruction.
+__attribute__((target("popcnt"))) void
+BelowGrouping::JoinNeighborsByBitsWithPopcount(const LineRun * first, const LineRun * last)
+{
+  this->JoinNeighborsOf<true>(first, last);
+}
+#endif
 
 auto
 BelowGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups

@@ -17,20 +17,13 @@
  *=========================================================================*/
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
+#include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
 #include <atomic>
 #include <memory>
 #include <numeric>
 
-#if defined(__GNUC__)
-#  define SMALLISO_ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#  define SMALLISO_ALWAYS_INLINE inline
-#endif
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && !defined(__POPCNT__)
-#  define SMALLISO_POPCOUNT_DISPATCH
-#endif
 
 namespace itk
 {
@@ -122,7 +115,7 @@ RunLabeling::ReserveRuns()
     m_LineLinking == LineLinking::Automatic && 2 * numberOfRuns >= BitsRunsPerWord * m_BitsWords * m_NumberOfLines;
   if (m_KeepLineBits)
   {
-    m_KeptLineBits.resize(m_NumberOfLines * m_BitsWords);
+    m_KeptLineBits.Reserve(m_NumberOfLines * m_BitsWords);
   }
 }
 
@@ -265,31 +258,6 @@ RunLabeling::MergeLines(SizeValueType lineA, SizeValueType lineB)
 
 namespace
 {
-/** The number of set bits of \a bits. */
-SMALLISO_ALWAYS_INLINE unsigned int
-CountBits(uint64_t bits)
-{
-#if defined(__GNUC__)
-  return static_cast<unsigned int>(__builtin_popcountll(bits));
-#else
-  bits -= (bits >> 1) & 0x5555555555555555ULL;
-  bits = (bits & 0x3333333333333333ULL) + ((bits >> 2) & 0x3333333333333333ULL);
-  bits = (bits + (bits >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
-  return static_cast<unsigned int>((bits * 0x0101010101010101ULL) >> 56);
-#endif
-}
-
-#if defined(SMALLISO_POPCOUNT_DISPATCH)
-/** Whether the processor counts bits in one instruction (nearly every x86-64 processor
- * made since 2008). */
-bool
-HasPopcount()
-{
-  static const bool has = __builtin_cpu_supports("popcnt") != 0;
-  return has;
-}
-#endif
-
 /** Bit i of the result is the parity of bits 0..i of \a bits. */
 inline uint64_t
 PrefixParity(uint64_t bits)
