@@ -54,12 +54,23 @@ public:
   /** The group of a component that belongs to none (an above component that did not flip). */
   static constexpr ComponentIndexType NoGroup = NumericTraits<ComponentIndexType>::max();
 
+  /** A grouping of nothing: Reset() gives it a labelling. */
+  BelowGrouping();
   /** Every component in a group of its own. The labeling must outlive the grouping. */
   explicit BelowGrouping(const RunLabeling & labeling);
   ~BelowGrouping();
   BelowGrouping(const BelowGrouping &) = delete;
   BelowGrouping &
   operator=(const BelowGrouping &) = delete;
+
+  /** Every component of \a labeling (which must outlive its use here) in a group of its
+   * own, in the memory of an earlier, larger labelling if there was one. */
+  void
+  Reset(const RunLabeling & labeling);
+
+  /** Gives back the memory; Reset() must come before the next use. */
+  void
+  ReleaseMemory();
 
   /** Joins the components of the flipped runs [first, last) (in run order) with the
    * components of the below runs they touch. Safe to call from several threads at once. */
@@ -79,8 +90,11 @@ public:
    * \a flipped (one flag per component). */
   Groups
   Finish(const std::vector<uint8_t> & flipped);
+  /** The same into \a groups, whose memory is kept. */
+  void
+  Finish(const std::vector<uint8_t> & flipped, Groups & groups);
 
-  /** Bytes of scratch held. */
+  /** Bytes of scratch held (with what is kept from an earlier, larger labelling). */
   SizeValueType
   GetScratchBytes() const;
 
@@ -98,8 +112,9 @@ private:
   void
   Join(ComponentIndexType a, ComponentIndexType b);
 
-  const RunLabeling &                                m_Labeling;
+  const RunLabeling *                                m_Labeling{ nullptr };
   std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;
+  SizeValueType                                      m_Capacity{ 0 };
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

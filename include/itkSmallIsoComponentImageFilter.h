@@ -221,11 +221,13 @@ public:
 
   /** \name Working memory kept between updates
    * The arrays of the scanline runs (8 bytes per run, the bulk of
-   * GetPeakExtraMemoryInBytes()) are kept after Update(), so that a pipeline that runs
-   * the filter again on an image of the same size, or a smaller one, takes no fresh memory
-   * (on Linux, first touching fresh memory costs more than the filter's own work on dense
-   * volumes). ReleaseWorkingMemory() gives them back; destroying the filter does too. An update
-   * that sweeps in slabs uses none of them and keeps nothing of its own.
+   * GetPeakExtraMemoryInBytes()) and those of the passes (a flag per component, the removed
+   * runs, their new values, the grouping of the below pass) are kept after Update(), so that
+   * a pipeline that runs the filter again on an image of the same size, or a smaller one,
+   * takes no fresh memory (on Linux, first touching fresh memory costs more than the
+   * filter's own work on dense volumes). ReleaseWorkingMemory() gives them back; destroying
+   * the filter does too. An update that sweeps in slabs uses none of them and keeps nothing
+   * of its own.
    * GetWorkingMemoryInBytes() tells how much is kept now. */
   /** @{ */
   void
@@ -273,11 +275,29 @@ private:
     ComponentSizeHistogramType Histogram;
   };
 
-  /** The components a pass removes: one flag per component, and their runs in run order. */
-  struct Removal
+  /** What an update works in besides the input and the output, kept for the next update
+   * (ReleaseWorkingMemory() gives it back): the labelling, the grouping of the below pass,
+   * and the arrays of the passes, which keep their memory when they are cleared. */
+  struct WorkingMemory
   {
-    std::vector<uint8_t> Removed;
+    SmallIsoComponentDetail::RunLabeling Labeling;
+    BelowGrouping                        Grouping;
+    BelowGrouping::Groups                Groups;
+    /** One flag per component: removed by the above pass, by the below pass. */
+    std::vector<uint8_t> RemovedAbove;
+    std::vector<uint8_t> RemovedBelow;
+    /** One flag per group of the below pass: removed. */
+    std::vector<uint8_t> RemovedGroups;
+    /** The runs a pass removes, in run order (each pass's in turn). */
     std::vector<LineRun> Runs;
+    /** The marks of the parallel collection of Runs. */
+    std::vector<uint8_t> Marks;
+    /** The repair's new values, one array per chunk. */
+    std::vector<std::vector<OutputPixelType>> Values;
+
+    /** Bytes held besides the labelling. */
+    SizeValueType
+    GetPassBytes() const;
   };
 
   SideStatistics &
@@ -310,65 +330,56 @@ private:
   void
   LinkAndNumberComponents(WorkTeam & team, RunLabeling & labeling, const DeferredFill & fill);
 
-  /** The above pass, on the input's components: decides which ones it removes and repairs
-   * them. When the below pass follows (Side Both), the removed components flip below, and
-   * \a grouping joins the below components next to them in the repair's loop. */
-  Removal
-  RemoveAbove(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping);
+  /** The above pass, on the input's components: decides which ones it removes (flagged
+   * in m_Working->RemovedAbove) and repairs them. When the below pass follows (Side Both),
+   * the removed components flip below, and m_Working->Grouping joins the below components
+   * next to them in the repair's loop. */
+  void
+  RemoveAbove(WorkTeam & team);
 
   /** The components of the image the below pass sees: the below components grouped
    * through the above components that flipped (none unless the above pass of Both removed
-   * some). Decides which groups the below pass removes, frees the above pass's runs, and
-   * returns one flag per component, set for the members of the removed groups. */
-  std::vector<uint8_t>
-  GroupBelow(WorkTeam & team, const RunLabeling & labeling, BelowGrouping & grouping, Removal & above);
-
-  /** The below pass: repairs the components flagged in \a removedBelow. \a removedAbove
-   * flags the components the above pass removed: their voxels were counted as modified
-   * already. */
+   * some). Decides which groups the below pass removes, and flags their members in
+   * m_Working->RemovedBelow. */
   void
-  RemoveBelow(WorkTeam &                   team,
-              const RunLabeling &          labeling,
-              const std::vector<uint8_t> & removedBelow,
-              const std::vector<uint8_t> & removedAbove);
+  GroupBelow(WorkTeam & team);
+
+  /** The below pass: repairs the components flagged in m_Working->RemovedBelow. The
+   * voxels of those that m_Working->RemovedAbove flags were counted as modified already. */
+  void
+  RemoveBelow(WorkTeam & team);
   /** @} */
 
   /** Counts the components of \a side in its statistics and decides which ones its pass
    * removes: those with at most K voxels, when the pass runs and the output type has a
    * value on the other side (else their voxels are unrepairable). sizeOf(i) is the size of
-   * entry i, or 0 for an entry that is no component of the side; one flag per entry. The
-   * entries are shared among the work units of \a team in as many parts (sizeOf is called
-   * concurrently), and the parts' counts added. */
+   * entry i, or 0 for an entry that is no component of the side; one flag per entry, into
+   * \a removed. The entries are shared among the work units of \a team in as many parts
+   * (sizeOf is called concurrently), and the parts' counts added. */
   template <typename TSizeOf>
-  std::vector<uint8_t>
-  DecideRemovals(WorkTeam & team, SideEnum side, SizeValueType entries, TSizeOf && sizeOf);
+  void
+  DecideRemovals(WorkTeam &             team,
+                 SideEnum               side,
+                 SizeValueType          entries,
+                 TSizeOf &&             sizeOf,
+                 std::vector<uint8_t> & removed);
 
   /** DecideRemovals() over the labelling's components, those of the other side being no
    * entries: one flag per component. */
-  std::vector<uint8_t>
-  DecideComponentRemovals(WorkTeam & team, const RunLabeling & labeling, SideEnum side);
+  void
+  DecideComponentRemovals(WorkTeam & team, SideEnum side, std::vector<uint8_t> & removed);
 
-  /** The runs of the components flagged in \a removed, of \a side, in run order, the
-   * candidates shared among the work units of \a team. \a heldBytes: what the pass holds
-   * besides the labelling and \a removed. */
-  std::vector<LineRun>
-  CollectRemovedRuns(WorkTeam &                   team,
-                     const RunLabeling &          labeling,
-                     const std::vector<uint8_t> & removed,
-                     SideEnum                     side,
-                     SizeValueType                heldBytes);
+  /** The runs of the components flagged in \a removed, of \a side, into m_Working->Runs in
+   * run order, the candidates shared among the work units of \a team. */
+  void
+  CollectRemovedRuns(WorkTeam & team, const std::vector<uint8_t> & removed, SideEnum side);
 
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
    * computed from the image before the pass, and marks it in the mask when there is one.
    * \a joinFlipped, if given, joins the below components next to the runs in the same
-   * loop. \a heldBytes: what the caller holds meanwhile. */
+   * loop. */
   void
-  RepairRuns(WorkTeam &                   team,
-             const RunLabeling &          labeling,
-             const std::vector<LineRun> & runs,
-             SideEnum                     side,
-             BelowGrouping *              joinFlipped,
-             SizeValueType                heldBytes);
+  RepairRuns(WorkTeam & team, const std::vector<LineRun> & runs, SideEnum side, BelowGrouping * joinFlipped);
 
   /** Planes per slab for the sweep in slabs, or 0 to label the whole image at once. */
   SizeValueType
@@ -401,8 +412,8 @@ private:
   SizeValueType                       m_SlabSweepMinimumSize{ DefaultSlabSweepMinimumSize };
   SizeValueType                       m_SlabThickness{ 0 };
   SizeValueType                       m_SweptSlabThickness{ 0 };
-  /** The labelling, kept between updates for its arrays' memory. */
-  std::unique_ptr<SmallIsoComponentDetail::RunLabeling> m_Labeling;
+  /** Kept between updates for its memory. */
+  std::unique_ptr<WorkingMemory> m_Working;
 };
 } // end namespace itk
 

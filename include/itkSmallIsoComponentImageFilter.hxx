@@ -32,7 +32,7 @@ namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SmallIsoComponentImageFilter()
-  : m_Labeling(std::make_unique<SmallIsoComponentDetail::RunLabeling>())
+  : m_Working(std::make_unique<WorkingMemory>())
 {}
 
 template <typename TInputImage, typename TOutputImage>
@@ -94,14 +94,39 @@ template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ReleaseWorkingMemory()
 {
-  m_Labeling->ReleaseMemory();
+  // The labelling keeps its settings.
+  m_Working->Labeling.ReleaseMemory();
+  m_Working->Grouping.ReleaseMemory();
+  m_Working->Groups = BelowGrouping::Groups();
+  std::vector<uint8_t>().swap(m_Working->RemovedAbove);
+  std::vector<uint8_t>().swap(m_Working->RemovedBelow);
+  std::vector<uint8_t>().swap(m_Working->RemovedGroups);
+  std::vector<LineRun>().swap(m_Working->Runs);
+  std::vector<uint8_t>().swap(m_Working->Marks);
+  std::vector<std::vector<OutputPixelType>>().swap(m_Working->Values);
+}
+
+template <typename TInputImage, typename TOutputImage>
+SizeValueType
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::WorkingMemory::GetPassBytes() const
+{
+  SizeValueType bytes = Grouping.GetScratchBytes() +
+                        Groups.GroupOfComponent.capacity() * sizeof(RunLabeling::ComponentIndexType) +
+                        Groups.GroupSize.capacity() * sizeof(SizeValueType) + RemovedAbove.capacity() +
+                        RemovedBelow.capacity() + RemovedGroups.capacity() + Runs.capacity() * sizeof(LineRun) +
+                        Marks.capacity() + Values.capacity() * sizeof(std::vector<OutputPixelType>);
+  for (const auto & chunkValues : Values)
+  {
+    bytes += chunkValues.capacity() * sizeof(OutputPixelType);
+  }
+  return bytes;
 }
 
 template <typename TInputImage, typename TOutputImage>
 SizeValueType
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetWorkingMemoryInBytes() const
 {
-  return m_Labeling->GetMemoryInBytes();
+  return m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -129,8 +154,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // The components of both sides, labelled over the lines' runs.
   const auto & size = this->GetOutput()->GetBufferedRegion().GetSize();
-  // The labelling's arrays are kept from the last update (see ReleaseWorkingMemory()).
-  RunLabeling & labeling = *m_Labeling;
+  // The labelling's arrays, and the passes', are kept from the last update (see
+  // ReleaseWorkingMemory()).
+  RunLabeling & labeling = m_Working->Labeling;
   labeling.Initialize(
     std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
   ProgressTransformer encodeProgress(0.0f, 0.3f, this);
@@ -141,7 +167,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   ProgressTransformer assembleProgress(0.3f, 0.35f, this);
   labeling.AssembleRuns(team);
   m_PhaseClock.End(PhaseEnum::Linking);
-  m_ExtraMemory.Hold(labeling.GetPeakMemoryInBytes());
+  m_ExtraMemory.Hold(labeling.GetPeakMemoryInBytes() + m_Working->GetPassBytes());
   this->EndPhase(assembleProgress);
 
   ProgressTransformer numberProgress(0.35f, 0.7f, this);
@@ -150,17 +176,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 
   // The above pass, then the below pass on the image the above pass leaves.
   ProgressTransformer aboveProgress(0.7f, 0.8f, this);
-  BelowGrouping       grouping(labeling);
-  Removal             above = this->RemoveAbove(team, labeling, grouping);
+  this->RemoveAbove(team);
   this->EndPhase(aboveProgress);
 
-  ProgressTransformer        groupProgress(0.8f, 0.85f, this);
-  const std::vector<uint8_t> removedBelow = this->GroupBelow(team, labeling, grouping, above);
+  ProgressTransformer groupProgress(0.8f, 0.85f, this);
+  this->GroupBelow(team);
   m_PhaseClock.End(PhaseEnum::Deciding);
   this->EndPhase(groupProgress);
 
   ProgressTransformer belowProgress(0.85f, 1.0f, this);
-  this->RemoveBelow(team, labeling, removedBelow, above.Removed);
+  this->RemoveBelow(team);
   belowProgress.GetProcessObject()->UpdateProgress(1.0f);
 }
 
@@ -402,96 +427,84 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     });
   }
   m_PhaseClock.End(PhaseEnum::Numbering);
-  m_ExtraMemory.Hold(labeling.GetMemoryInBytes());
+  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
 }
 
 template <typename TInputImage, typename TOutputImage>
-auto
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam &          team,
-                                                                     const RunLabeling & labeling,
-                                                                     BelowGrouping &     grouping) -> Removal
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & team)
 {
-  Removal above;
-  above.Removed = this->DecideComponentRemovals(team, labeling, SideEnum::Above);
-  above.Runs = this->CollectRemovedRuns(team, labeling, above.Removed, SideEnum::Above, grouping.GetScratchBytes());
-  m_PhaseClock.End(PhaseEnum::Deciding);
+  WorkingMemory & working = *m_Working;
+  this->DecideComponentRemovals(team, SideEnum::Above, working.RemovedAbove);
+  this->CollectRemovedRuns(team, working.RemovedAbove, SideEnum::Above);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
-  this->RepairRuns(team,
-                   labeling,
-                   above.Runs,
-                   SideEnum::Above,
-                   this->AbovePassFlips() ? &grouping : nullptr,
-                   above.Removed.capacity() + grouping.GetScratchBytes());
+  if (this->AbovePassFlips())
+  {
+    working.Grouping.Reset(working.Labeling);
+  }
+  m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
+  m_PhaseClock.End(PhaseEnum::Deciding);
+  this->RepairRuns(team, working.Runs, SideEnum::Above, this->AbovePassFlips() ? &working.Grouping : nullptr);
   m_NumberOfModifiedVoxels += m_AboveStatistics.RemovedVoxels;
-  return above;
+  // The flipped runs have been joined.
+  working.Runs.clear();
 }
 
 template <typename TInputImage, typename TOutputImage>
-std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam &          team,
-                                                                    const RunLabeling & labeling,
-                                                                    BelowGrouping &     grouping,
-                                                                    Removal &           above)
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & team)
 {
+  WorkingMemory & working = *m_Working;
   // Without a below pass after it (Side Above) the above pass flips nothing: the below
   // side's statistics describe the input. When nothing flips, the groups are the below
   // components themselves, and no grouping is needed.
   if (!this->AbovePassFlips())
   {
-    std::vector<uint8_t> removedBelow = this->DecideComponentRemovals(team, labeling, SideEnum::Below);
-    m_ExtraMemory.Hold(
-      labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, removedBelow);
-    std::vector<LineRun>().swap(above.Runs);
-    return removedBelow;
+    this->DecideComponentRemovals(team, SideEnum::Below, working.RemovedBelow);
+    m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
+    return;
   }
-  const BelowGrouping::Groups groups = grouping.Finish(above.Removed);
-  m_ExtraMemory.Hold(
-    labeling.GetMemoryInBytes() + grouping.GetScratchBytes(), above.Removed, above.Runs, groups.GroupOfComponent);
-  // The flipped runs have been joined.
-  std::vector<LineRun>().swap(above.Runs);
-
-  const std::vector<uint8_t> removedGroup = this->DecideRemovals(
-    team, SideEnum::Below, groups.GroupSize.size(), [&groups](SizeValueType group) { return groups.GroupSize[group]; });
-  std::vector<uint8_t> removedBelow(labeling.GetNumberOfComponents(), 0);
-  for (SizeValueType component = 0; component < removedBelow.size(); ++component)
+  const BelowGrouping::Groups & groups = working.Groups;
+  working.Grouping.Finish(working.RemovedAbove, working.Groups);
+  this->DecideRemovals(
+    team,
+    SideEnum::Below,
+    groups.GroupSize.size(),
+    [&groups](SizeValueType group) { return groups.GroupSize[group]; },
+    working.RemovedGroups);
+  working.RemovedBelow.resize(working.Labeling.GetNumberOfComponents());
+  for (SizeValueType component = 0; component < working.RemovedBelow.size(); ++component)
   {
     const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[component];
-    removedBelow[component] = group != BelowGrouping::NoGroup && removedGroup[group];
+    working.RemovedBelow[component] = group != BelowGrouping::NoGroup && working.RemovedGroups[group];
   }
-  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + grouping.GetScratchBytes(),
-                     above.Removed,
-                     removedBelow,
-                     removedGroup,
-                     groups.GroupOfComponent,
-                     groups.GroupSize);
-  return removedBelow;
+  m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam &                   team,
-                                                                     const RunLabeling &          labeling,
-                                                                     const std::vector<uint8_t> & removedBelow,
-                                                                     const std::vector<uint8_t> & removedAbove)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & team)
 {
+  WorkingMemory & working = *m_Working;
   // A removed group has at most K voxels, so all of its below components' runs are
   // candidates; its flipped components' runs are candidates too.
-  const std::vector<LineRun> runs =
-    this->CollectRemovedRuns(team, labeling, removedBelow, SideEnum::Below, removedAbove.capacity());
+  this->CollectRemovedRuns(team, working.RemovedBelow, SideEnum::Below);
+  m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
   m_PhaseClock.End(PhaseEnum::Deciding);
-  this->RepairRuns(team, labeling, runs, SideEnum::Below, nullptr, removedBelow.capacity() + removedAbove.capacity());
+  this->RepairRuns(team, working.Runs, SideEnum::Below, nullptr);
+  working.Runs.clear();
   // Every voxel of a removed group is written; those of its flipped members were written
   // by the above pass already. (Without flips a group is one below component, and the
   // flags of the two passes mark components of different sides.)
   SizeValueType writtenAgain = 0;
   if (this->AbovePassFlips())
   {
-    for (SizeValueType component = 0; component < removedBelow.size(); ++component)
+    for (SizeValueType component = 0; component < working.RemovedBelow.size(); ++component)
     {
-      if (removedBelow[component] && removedAbove[component])
+      if (working.RemovedBelow[component] && working.RemovedAbove[component])
       {
-        writtenAgain += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
+        writtenAgain += working.Labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
       }
     }
   }
@@ -501,17 +514,18 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
 
 template <typename TInputImage, typename TOutputImage>
 template <typename TSizeOf>
-std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam &    team,
-                                                                        SideEnum      side,
-                                                                        SizeValueType entries,
-                                                                        TSizeOf &&    sizeOf)
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam &             team,
+                                                                        SideEnum               side,
+                                                                        SizeValueType          entries,
+                                                                        TSizeOf &&             sizeOf,
+                                                                        std::vector<uint8_t> & removed)
 {
   const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
   const bool                                                passRuns = m_Side == side || m_Side == SideEnum::Both;
-  const bool           repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
-  SideStatistics &     statistics = this->StatisticsOf(side);
-  std::vector<uint8_t> removed(entries, 0);
+  const bool       repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
+  SideStatistics & statistics = this->StatisticsOf(side);
+  removed.assign(entries, 0);
   // One part per work unit (each holds a SizeCounter), counts added in the order of the
   // parts.
   struct Part
@@ -563,50 +577,49 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
     m_NumberOfUnrepairableVoxels += done.UnrepairableVoxels;
   }
   statistics.Histogram = part[0].Sizes.Histogram();
-  return removed;
 }
 
 template <typename TInputImage, typename TOutputImage>
-std::vector<uint8_t>
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(WorkTeam &          team,
-                                                                                 const RunLabeling & labeling,
-                                                                                 SideEnum            side)
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(WorkTeam &             team,
+                                                                                 SideEnum               side,
+                                                                                 std::vector<uint8_t> & removed)
 {
-  const bool above = side == SideEnum::Above;
-  return this->DecideRemovals(team, side, labeling.GetNumberOfComponents(), [&labeling, above](SizeValueType index) {
-    const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
-    return labeling.IsComponentAbove(component) == above ? labeling.GetComponentSize(component) : 0;
-  });
+  const RunLabeling & labeling = m_Working->Labeling;
+  const bool          above = side == SideEnum::Above;
+  this->DecideRemovals(
+    team,
+    side,
+    labeling.GetNumberOfComponents(),
+    [&labeling, above](SizeValueType index) {
+      const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
+      return labeling.IsComponentAbove(component) == above ? labeling.GetComponentSize(component) : 0;
+    },
+    removed);
 }
 
 template <typename TInputImage, typename TOutputImage>
-auto
+void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(WorkTeam &                   team,
-                                                                            const RunLabeling &          labeling,
                                                                             const std::vector<uint8_t> & removed,
-                                                                            SideEnum                     side,
-                                                                            SizeValueType                heldBytes)
-  -> std::vector<LineRun>
+                                                                            SideEnum                     side)
 {
+  WorkingMemory & working = *m_Working;
+  working.Runs.clear();
   if (this->StatisticsOf(side).RemovedComponents == 0)
   {
-    return std::vector<LineRun>();
+    return;
   }
   // Every run of a removed component is a candidate (it has at most K voxels).
-  SizeValueType        markedBytes = 0;
-  std::vector<LineRun> runs = labeling.CollectCandidateRuns(removed, team, markedBytes);
-  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + heldBytes + markedBytes, removed, runs);
-  return runs;
+  working.Labeling.CollectCandidateRuns(removed, team, working.Marks, working.Runs);
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                   team,
-                                                                    const RunLabeling &          labeling,
                                                                     const std::vector<LineRun> & runs,
                                                                     SideEnum                     side,
-                                                                    BelowGrouping *              joinFlipped,
-                                                                    SizeValueType                heldBytes)
+                                                                    BelowGrouping *              joinFlipped)
 {
   if (runs.empty())
   {
@@ -625,12 +638,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
     }
   }
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
-    team, labeling, runs, output->GetBufferedRegion().GetSize());
+    team, m_Working->Labeling, runs, output->GetBufferedRegion().GetSize(), m_Working->Values);
   repair.ComputeValues(valuesBeforePass,
                        SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
                        side == SideEnum::Above,
                        joinFlipped);
-  m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + repair.GetValueBytes() + heldBytes, runs);
+  m_ExtraMemory.Hold(m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
   m_PhaseClock.End(PhaseEnum::Repair);
   repair.WriteValues(output->GetBufferPointer(),

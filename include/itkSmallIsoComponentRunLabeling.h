@@ -195,6 +195,16 @@ public:
    * the marks (0 with one part). */
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected, WorkTeam & team, SizeValueType & markedBytes) const;
+  /** The same into \a runs, with \a marked for the marks (left empty with one part): both
+   * keep their memory, for the next image. */
+  void
+  CollectCandidateRuns(const std::vector<uint8_t> & selected,
+                       WorkTeam &                   team,
+                       std::vector<uint8_t> &       marked,
+                       std::vector<LineRun> &       runs) const;
+  /** The serial one into \a runs. */
+  void
+  CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const;
 
   /** The runs, read-only, as arrays, for the loops over many runs: valid from
    * AssembleRuns() until the next Initialize(). */

@@ -53,6 +53,13 @@ public:
    * of extent \a size, its chunks shared among the members of \a team. The team, the
    * labeling's runs and \a runs must outlive it. */
   RunRepair(WorkTeam & team, const RunLabeling & labeling, const std::vector<LineRun> & runs, const SizeType & size);
+  /** The same, the values computed into \a values (one array per chunk), whose memory is
+   * kept for the next repair. */
+  RunRepair(WorkTeam &                         team,
+            const RunLabeling &                labeling,
+            const std::vector<LineRun> &       runs,
+            const SizeType &                   size,
+            std::vector<std::vector<TPixel>> & values);
 
   /** Computes the new values from \a valuesBeforePass (the image's voxels before the
    * pass) for runs on the side given by \a removedAreAbove. If \a joinFlipped is given,
@@ -104,8 +111,9 @@ private:
   OffsetValueType              m_Stride[VDimension];
   SizeValueType                m_NumberOfChunks;
   /** The new values of each chunk's voxels, in run order, and its unrepairable voxels. */
-  std::vector<std::vector<TPixel>> m_Values;
-  std::vector<SizeValueType>       m_Unrepairable;
+  std::vector<std::vector<TPixel>>   m_OwnValues;
+  std::vector<std::vector<TPixel>> & m_Values;
+  std::vector<SizeValueType>         m_Unrepairable;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -36,6 +36,15 @@ RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                   team,
                                          const RunLabeling &          labeling,
                                          const std::vector<LineRun> & runs,
                                          const SizeType &             size)
+  : RunRepair(team, labeling, runs, size, m_OwnValues)
+{}
+
+template <typename TPixel, unsigned int VDimension>
+RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                         team,
+                                         const RunLabeling &                labeling,
+                                         const std::vector<LineRun> &       runs,
+                                         const SizeType &                   size,
+                                         std::vector<std::vector<TPixel>> & values)
   : m_Team(team)
   , m_Table(labeling.GetRunTable())
   , m_Runs(runs)
@@ -43,6 +52,7 @@ RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                   team,
   // A few removed runs are repaired by the calling thread alone: handing them to other
   // threads costs more than it saves.
   , m_NumberOfChunks(team.GetNumberOfChunks(runs.size()))
+  , m_Values(values)
 {
   m_Stride[0] = 1;
   for (unsigned int a = 1; a < VDimension; ++a)
@@ -114,7 +124,12 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
       }
     }
   };
-  m_Values.assign(m_NumberOfChunks, {});
+  // Each chunk's array keeps its memory from the last repair.
+  m_Values.resize(m_NumberOfChunks);
+  for (auto & chunkValues : m_Values)
+  {
+    chunkValues.clear();
+  }
   m_Unrepairable.assign(m_NumberOfChunks, 0);
   m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
     auto & chunkValues = m_Values[chunk];

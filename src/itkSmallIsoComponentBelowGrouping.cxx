@@ -28,22 +28,45 @@ namespace SmallIsoComponentDetail
 // under another root by compare-and-swap, always the larger index under the smaller, so
 // every root is the smallest component of its group whatever the order of the links;
 // path halving only ever replaces a parent by one of its ancestors.
+BelowGrouping::BelowGrouping() = default;
+
 BelowGrouping::BelowGrouping(const RunLabeling & labeling)
-  : m_Labeling(labeling)
-  , m_Parent(new std::atomic<ComponentIndexType>[labeling.GetNumberOfComponents()])
 {
-  for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+  this->Reset(labeling);
+}
+
+BelowGrouping::~BelowGrouping() = default;
+
+void
+BelowGrouping::Reset(const RunLabeling & labeling)
+{
+  m_Labeling = &labeling;
+  const SizeValueType components = labeling.GetNumberOfComponents();
+  if (components > m_Capacity)
+  {
+    m_Parent.reset();
+    m_Capacity = 0;
+    m_Parent.reset(new std::atomic<ComponentIndexType>[components]);
+    m_Capacity = components;
+  }
+  for (SizeValueType c = 0; c < components; ++c)
   {
     m_Parent[c].store(static_cast<ComponentIndexType>(c), std::memory_order_relaxed);
   }
 }
 
-BelowGrouping::~BelowGrouping() = default;
+void
+BelowGrouping::ReleaseMemory()
+{
+  m_Labeling = nullptr;
+  m_Parent.reset();
+  m_Capacity = 0;
+}
 
 SizeValueType
 BelowGrouping::GetScratchBytes() const
 {
-  return m_Labeling.GetNumberOfComponents() * sizeof(std::atomic<ComponentIndexType>);
+  return m_Capacity * sizeof(std::atomic<ComponentIndexType>);
 }
 
 inline auto
@@ -96,16 +119,16 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
   // those are below) and the below runs it overlaps in the neighbouring lines; its
   // component joins theirs. A repeat of the previous pair is skipped.
   using CoordinateType = RunLabeling::CoordinateType;
-  const RunLabeling::RunTable      table = m_Labeling.GetRunTable();
+  const RunLabeling::RunTable      table = m_Labeling->GetRunTable();
   const CoordinateType * const     runStart = table.Start;
   const ComponentIndexType * const component = table.Component;
   const SizeValueType * const      lineRunBegin = table.LineBegin;
   const uint8_t * const            lineFirstAbove = table.LineFirstAbove;
-  const LineNeighbors &            neighbors = m_Labeling.GetLineNeighbors();
+  const LineNeighbors &            neighbors = m_Labeling->GetLineNeighbors();
   LineNeighbors::Position          position;
   // With full connectivity a run also touches the runs that end just before it or start
   // just after it in the neighbouring lines.
-  const SizeValueType allowance = m_Labeling.IsFullyConnected() ? 1 : 0;
+  const SizeValueType allowance = m_Labeling->IsFullyConnected() ? 1 : 0;
   ComponentIndexType  lastFlipped = NoGroup;
   ComponentIndexType  lastBelow = NoGroup;
   const auto          join = [&](ComponentIndexType flipped, ComponentIndexType below) {
@@ -116,8 +139,8 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
       this->Join(flipped, below);
     }
   };
-  const SizeValueType lines = m_Labeling.GetNumberOfLines();
-  const SizeValueType plane = m_Labeling.GetSize().size() > 1 ? m_Labeling.GetSize()[1] : 1;
+  const SizeValueType lines = m_Labeling->GetNumberOfLines();
+  const SizeValueType plane = m_Labeling->GetSize().size() > 1 ? m_Labeling->GetSize()[1] : 1;
   const double        perVoxel = 1.0 / static_cast<double>(table.LineLength);
   // The below runs of line \a other that overlap [from, to): sides alternate, so every
   // other run from the run that holds from if it is below, else from the run after it, up
@@ -252,7 +275,7 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
 void
 BelowGrouping::JoinNeighbors(const LineRun * first, const LineRun * last)
 {
-  if (m_Labeling.GetRunTable().Bits == nullptr)
+  if (m_Labeling->GetRunTable().Bits == nullptr)
   {
     this->JoinNeighborsOf<false>(first, last);
     return;
@@ -279,13 +302,21 @@ BelowGrouping::JoinNeighborsByBitsWithPopcount(const LineRun * first, const Line
 auto
 BelowGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups
 {
-  const SizeValueType numberOfComponents = m_Labeling.GetNumberOfComponents();
-  Groups              groups;
+  Groups groups;
+  this->Finish(flipped, groups);
+  return groups;
+}
+
+void
+BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
+{
+  const SizeValueType numberOfComponents = m_Labeling->GetNumberOfComponents();
   groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
+  groups.GroupSize.clear();
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
     const auto member = static_cast<ComponentIndexType>(c);
-    if (m_Labeling.IsComponentAbove(member) && !flipped[c])
+    if (m_Labeling->IsComponentAbove(member) && !flipped[c])
     {
       continue;
     }
@@ -297,9 +328,8 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups
       groups.GroupSize.push_back(0);
     }
     groups.GroupOfComponent[c] = groups.GroupOfComponent[root];
-    groups.GroupSize[groups.GroupOfComponent[c]] += m_Labeling.GetComponentSize(member);
+    groups.GroupSize[groups.GroupOfComponent[c]] += m_Labeling->GetComponentSize(member);
   }
-  return groups;
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

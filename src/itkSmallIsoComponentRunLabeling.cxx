@@ -654,9 +654,17 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
 auto
 RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
 {
+  std::vector<LineRun> runs;
+  this->CollectCandidateRuns(selected, runs);
+  return runs;
+}
+
+void
+RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const
+{
   // The candidates are far apart in the run arrays: their components are requested a
   // few candidates ahead.
-  std::vector<LineRun>       runs;
+  runs.clear();
   const RunIndexType * const label = m_RunLabel.data();
   const SizeValueType        candidates = m_CandidateRuns.size();
   const LineRun * const      candidate = m_CandidateRuns.data();
@@ -672,7 +680,6 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -
       runs.push_back(candidate[i]);
     }
   }
-  return runs;
 }
 
 auto
@@ -680,17 +687,30 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
                                   WorkTeam &                   team,
                                   SizeValueType &              markedBytes) const -> std::vector<LineRun>
 {
+  std::vector<uint8_t> marked;
+  std::vector<LineRun> runs;
+  this->CollectCandidateRuns(selected, team, marked, runs);
+  markedBytes = marked.capacity();
+  return runs;
+}
+
+void
+RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
+                                  WorkTeam &                   team,
+                                  std::vector<uint8_t> &       marked,
+                                  std::vector<LineRun> &       runs) const
+{
   const SizeValueType candidates = m_CandidateRuns.size();
   const SizeValueType parts = team.GetNumberOfParts(candidates);
-  markedBytes = parts > 1 ? candidates : 0;
   if (parts == 1)
   {
-    return this->CollectCandidateRuns(selected);
+    this->CollectCandidateRuns(selected, runs);
+    return;
   }
   const RunIndexType * const label = m_RunLabel.data();
   const LineRun * const      candidate = m_CandidateRuns.data();
   constexpr SizeValueType    Ahead = 2 * PrefetchRunsAhead;
-  std::vector<uint8_t>       marked(candidates);
+  marked.resize(candidates);
   std::vector<SizeValueType> partBegin(parts + 1, 0);
   team.ForEach(parts, [&](SizeValueType part) {
     const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
@@ -707,7 +727,7 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
     partBegin[part + 1] = count;
   });
   std::partial_sum(partBegin.begin(), partBegin.end(), partBegin.begin());
-  std::vector<LineRun> runs(partBegin[parts]);
+  runs.resize(partBegin[parts]);
   team.ForEach(parts, [&](SizeValueType part) {
     const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
     LineRun *           out = runs.data() + partBegin[part];
@@ -719,7 +739,6 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
       }
     }
   });
-  return runs;
 }
 
 SizeValueType
