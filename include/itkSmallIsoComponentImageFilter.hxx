@@ -527,8 +527,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
   SideStatistics & statistics = this->StatisticsOf(side);
   removed.assign(entries, 0);
   // One part per work unit (each holds a SizeCounter), counts added in the order of the
-  // parts.
-  struct Part
+  // parts. Each part is on cache lines of its own: the work units update their counts all
+  // along.
+  struct alignas(64) Part
   {
     SmallIsoComponentDetail::SizeCounter Sizes;
     SizeValueType                        Components{ 0 };

@@ -64,11 +64,15 @@ namespace SmallIsoComponentDetail
  * voxel, at most 1/6 byte per run). The arrays keep their memory from one Initialize() to
  * the next (the run arrays take huge pages where the system offers them), so that
  * labelling an image like the last one takes no fresh memory; ReleaseMemory() gives it
- * back.
+ * back. The object is on cache lines of its own: while one work unit numbers the
+ * components, which writes the ends of the component arrays all along, others work
+ * beside it, and on a cache line it shared with their data both would wait on each other
+ * (numbering at two work units took 64 ms instead of 50 on random-384-u8 with the
+ * labelling in one block with the passes' arrays).
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT RunLabeling
+class SmallIsoComponent_EXPORT alignas(64) RunLabeling
 {
 public:
   using RunIndexType = uint32_t;

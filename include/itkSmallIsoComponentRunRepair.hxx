@@ -132,7 +132,10 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
   }
   m_Unrepairable.assign(m_NumberOfChunks, 0);
   m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
-    auto & chunkValues = m_Values[chunk];
+    // The chunk's array and count are worked on in this thread's own variables, not in
+    // the arrays of all chunks, whose neighbouring entries other work units write.
+    std::vector<TPixel> chunkValues = std::move(m_Values[chunk]);
+    SizeValueType       unrepairable = 0;
     chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
     this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
       // The run's coordinates along axes 1..N-1.
@@ -175,10 +178,12 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
           else
           {
             chunkValues.push_back(fallback);
-            ++m_Unrepairable[chunk];
+            ++unrepairable;
           }
         });
     });
+    m_Values[chunk] = std::move(chunkValues);
+    m_Unrepairable[chunk] = unrepairable;
     if (joinFlipped != nullptr)
     {
       joinFlipped->JoinNeighbors(m_Runs.data() + this->ChunkBegin(chunk), m_Runs.data() + this->ChunkBegin(chunk + 1));
