@@ -22,8 +22,11 @@
 
 #if defined(__GNUC__)
 #  define SMALLISO_ALWAYS_INLINE inline __attribute__((always_inline))
+/* The same for a lambda, after its parameters. */
+#  define SMALLISO_LAMBDA_ALWAYS_INLINE __attribute__((always_inline))
 #else
 #  define SMALLISO_ALWAYS_INLINE inline
+#  define SMALLISO_LAMBDA_ALWAYS_INLINE
 #endif
 /* Where the compiler may not use the processor's bit-count instruction, the loops that
  * count many bits are compiled twice, once for processors that have it, chosen at run

@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentLineNeighbors_h
 
 #include "itkIntTypes.h"
+#include "itkSmallIsoComponentBitCount.h"
 #include "itkNumericTraits.h"
 #include "SmallIsoComponentExport.h"
 #include <utility>
@@ -126,7 +127,7 @@ public:
   /** Calls function(neighbor) for every neighbouring line of \a position inside the
    * image. */
   template <typename TFunction>
-  void
+  SMALLISO_ALWAYS_INLINE void
   ForEachNeighbor(const Position & position, TFunction && function) const
   {
     this->ForEach<true>(position, function);
@@ -135,7 +136,7 @@ public:
 private:
   /** The walk of ForEachEarlier() (earlier lines only) and ForEachNeighbor() (\a VLater). */
   template <bool VLater, typename TFunction>
-  void
+  SMALLISO_ALWAYS_INLINE void
   ForEach(const Position & position, TFunction && function) const
   {
     const SizeValueType                line = position.m_Line;

@@ -99,6 +99,12 @@ public:
   {
     return m_NumberOfLines;
   }
+  /** The number of runs (after ReserveRuns()). */
+  SizeValueType
+  GetNumberOfRuns() const
+  {
+    return m_NumberOfRuns;
+  }
   SizeValueType
   GetNumberOfSlabs() const
   {

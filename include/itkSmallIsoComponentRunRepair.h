@@ -114,6 +114,8 @@ private:
   std::vector<std::vector<TPixel>>   m_OwnValues;
   std::vector<std::vector<TPixel>> & m_Values;
   std::vector<SizeValueType>         m_Unrepairable;
+  /** Whether the loops request what runs ahead read (see PrefetchMinimumRuns). */
+  bool m_Prefetch;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -53,6 +53,7 @@ RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                         team
   // threads costs more than it saves.
   , m_NumberOfChunks(team.GetNumberOfChunks(runs.size()))
   , m_Values(values)
+  , m_Prefetch(labeling.GetNumberOfRuns() >= PrefetchMinimumRuns)
 {
   m_Stride[0] = 1;
   for (unsigned int a = 1; a < VDimension; ++a)
@@ -70,6 +71,14 @@ RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && pr
   // than the caches), then what prefetch() asks for a run ahead, which reads that start.
   const SizeValueType begin = this->ChunkBegin(chunk);
   const SizeValueType end = this->ChunkBegin(chunk + 1);
+  if (!m_Prefetch)
+  {
+    for (SizeValueType i = begin; i < end; ++i)
+    {
+      visit(m_Runs[i]);
+    }
+    return;
+  }
   for (SizeValueType i = begin; i < std::min(end, begin + 2 * PrefetchRunsAhead); ++i)
   {
     Prefetch(m_Table.Start + m_Runs[i].Run);

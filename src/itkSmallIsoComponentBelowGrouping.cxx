@@ -148,37 +148,41 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
   // line's first run plus the count of the line's boundaries up to it, less one, and the
   // run starts (four bytes a run, where the bits are a bit a voxel) are not read.
   const auto joinOverlapping =
-    [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to) {
-      SizeValueType below;
-      SizeValueType end;
-      if constexpr (VByBits)
-      {
-        const uint64_t * const bits = table.Bits + other * table.BitsWords;
-        const SizeValueType    lastVoxel = std::min(to, table.LineLength) - 1;
-        SizeValueType          word = 0;
-        SizeValueType          count = lineRunBegin[other] - 1;
-        for (; word < from / 64; ++word)
+    [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to)
+      SMALLISO_LAMBDA_ALWAYS_INLINE {
+        SizeValueType below;
+        SizeValueType end;
+        if constexpr (VByBits)
         {
-          count += CountBits(bits[word]);
+          const uint64_t * const bits = table.Bits + other * table.BitsWords;
+          const SizeValueType    lastVoxel = std::min(to, table.LineLength) - 1;
+          SizeValueType          word = 0;
+          SizeValueType          count = lineRunBegin[other] - 1;
+          for (; word < from / 64; ++word)
+          {
+            count += CountBits(bits[word]);
+          }
+          below = count + CountBits(bits[word] & BitsUpTo(from % 64));
+          for (; word < lastVoxel / 64; ++word)
+          {
+            count += CountBits(bits[word]);
+          }
+          end = count + CountBits(bits[word] & BitsUpTo(lastVoxel % 64)) + 1;
         }
-        below = count + CountBits(bits[word] & BitsUpTo(from % 64));
-        for (; word < lastVoxel / 64; ++word)
+        else
         {
-          count += CountBits(bits[word]);
+          // (A line of a few runs is searched whole.)
+          below = lineRunBegin[other + 1] - lineRunBegin[other] > 2 * RunLabeling::RunTable::NearRuns
+                    ? table.RunHolding(other, from, table.GuessRunHolding(other, from, perVoxel))
+                    : table.RunHolding(other, from);
+          end = lineRunBegin[other + 1];
         }
-        end = count + CountBits(bits[word] & BitsUpTo(lastVoxel % 64)) + 1;
-      }
-      else
-      {
-        below = table.RunHolding(other, from, table.GuessRunHolding(other, from, perVoxel));
-        end = lineRunBegin[other + 1];
-      }
-      below += table.IsAbove(below, other) ? 1 : 0;
-      for (; below < end && (VByBits || runStart[below] < to); below += 2)
-      {
-        join(flipped, component[below]);
-      }
-    };
+        below += table.IsAbove(below, other) ? 1 : 0;
+        for (; below < end && (VByBits || runStart[below] < to); below += 2)
+        {
+          join(flipped, component[below]);
+        }
+      };
   // The runs ahead and their neighbouring lines are requested early: first the run itself
   // and where the lines' runs (and bits) begin, then (a few runs later, once that has
   // arrived) the lines' runs near where the run's start falls if runs were spread evenly
@@ -241,13 +245,14 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
     }
   };
   const auto runs = static_cast<SizeValueType>(last - first);
+  const bool prefetch = m_Labeling->GetNumberOfRuns() >= PrefetchMinimumRuns;
   for (SizeValueType i = 0; i < runs; ++i)
   {
-    if (i + PrefetchLineTablesAhead < runs)
+    if (prefetch && i + PrefetchLineTablesAhead < runs)
     {
       prefetchLines(first[i + PrefetchLineTablesAhead]);
     }
-    if (i + PrefetchRunsAhead < runs)
+    if (prefetch && i + PrefetchRunsAhead < runs)
     {
       prefetchRuns(first[i + PrefetchRunsAhead]);
     }
@@ -268,7 +273,8 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
     const SizeValueType from = start >= allowance ? start - allowance : 0;
     const SizeValueType to = table.End(run, line) + allowance;
     neighbors.MoveTo(position, line);
-    neighbors.ForEachNeighbor(position, [&](SizeValueType other) { joinOverlapping(flipped, other, from, to); });
+    neighbors.ForEachNeighbor(
+      position, [&](SizeValueType other) SMALLISO_LAMBDA_ALWAYS_INLINE { joinOverlapping(flipped, other, from, to); });
   }
 }
 
