@@ -298,6 +298,9 @@ private:
     /** Bytes held besides the labelling. */
     SizeValueType
     GetPassBytes() const;
+    /** Gives back all the memory; the labelling keeps its settings. */
+    void
+    ReleaseMemory();
   };
 
   SideStatistics &

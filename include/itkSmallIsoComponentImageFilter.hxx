@@ -94,32 +94,33 @@ template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ReleaseWorkingMemory()
 {
-  // The labelling keeps its settings.
-  m_Working->Labeling.ReleaseMemory();
-  m_Working->Grouping.ReleaseMemory();
-  m_Working->Groups = BelowGrouping::Groups();
-  std::vector<uint8_t>().swap(m_Working->RemovedAbove);
-  std::vector<uint8_t>().swap(m_Working->RemovedBelow);
-  std::vector<uint8_t>().swap(m_Working->RemovedGroups);
-  std::vector<LineRun>().swap(m_Working->Runs);
-  std::vector<uint8_t>().swap(m_Working->Marks);
-  std::vector<std::vector<OutputPixelType>>().swap(m_Working->Values);
+  m_Working->ReleaseMemory();
 }
 
 template <typename TInputImage, typename TOutputImage>
 SizeValueType
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::WorkingMemory::GetPassBytes() const
 {
-  SizeValueType bytes = Grouping.GetScratchBytes() +
-                        Groups.GroupOfComponent.capacity() * sizeof(RunLabeling::ComponentIndexType) +
-                        Groups.GroupSize.capacity() * sizeof(SizeValueType) + RemovedAbove.capacity() +
-                        RemovedBelow.capacity() + RemovedGroups.capacity() + Runs.capacity() * sizeof(LineRun) +
-                        Marks.capacity() + Values.capacity() * sizeof(std::vector<OutputPixelType>);
-  for (const auto & chunkValues : Values)
-  {
-    bytes += chunkValues.capacity() * sizeof(OutputPixelType);
-  }
-  return bytes;
+  return Grouping.GetScratchBytes() + Groups.GroupOfComponent.capacity() * sizeof(RunLabeling::ComponentIndexType) +
+         Groups.GroupSize.capacity() * sizeof(SizeValueType) + RemovedAbove.capacity() + RemovedBelow.capacity() +
+         RemovedGroups.capacity() + Runs.capacity() * sizeof(LineRun) + Marks.capacity() +
+         Values.capacity() * sizeof(std::vector<OutputPixelType>) +
+         SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension>::GetValueBytes(Values);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::WorkingMemory::ReleaseMemory()
+{
+  Labeling.ReleaseMemory();
+  Grouping.ReleaseMemory();
+  Groups = BelowGrouping::Groups();
+  std::vector<uint8_t>().swap(RemovedAbove);
+  std::vector<uint8_t>().swap(RemovedBelow);
+  std::vector<uint8_t>().swap(RemovedGroups);
+  std::vector<LineRun>().swap(Runs);
+  std::vector<uint8_t>().swap(Marks);
+  std::vector<std::vector<OutputPixelType>>().swap(Values);
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -199,14 +199,10 @@ public:
    * have at most candidateSize voxels. Visits the candidates only, not every run. */
   std::vector<LineRun>
   CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
-  /** The same, the candidates shared among the work units of \a team in as many parts:
-   * each part marks its selected candidates (one byte per candidate, held meanwhile) and
-   * counts them, then copies them to its place in the result. \a markedBytes: the bytes of
-   * the marks (0 with one part). */
-  std::vector<LineRun>
-  CollectCandidateRuns(const std::vector<uint8_t> & selected, WorkTeam & team, SizeValueType & markedBytes) const;
-  /** The same into \a runs, with \a marked for the marks (left empty with one part): both
-   * keep their memory, for the next image. */
+  /** The same into \a runs, the candidates shared among the work units of \a team in as
+   * many parts: each part marks its selected candidates in \a marked (one byte per
+   * candidate; left as it is with one part) and counts them, then copies them to its place
+   * in \a runs. Both keep their memory, for the next image. */
   void
   CollectCandidateRuns(const std::vector<uint8_t> & selected,
                        WorkTeam &                   team,

@@ -83,6 +83,9 @@ public:
   /** Bytes held by the computed values. */
   SizeValueType
   GetValueBytes() const;
+  /** Bytes held by the values of the chunks in \a values. */
+  static SizeValueType
+  GetValueBytes(const std::vector<std::vector<TPixel>> & values);
 
 private:
   SizeValueType

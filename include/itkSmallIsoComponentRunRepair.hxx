@@ -135,16 +135,13 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
   };
   // Each chunk's array keeps its memory from the last repair.
   m_Values.resize(m_NumberOfChunks);
-  for (auto & chunkValues : m_Values)
-  {
-    chunkValues.clear();
-  }
   m_Unrepairable.assign(m_NumberOfChunks, 0);
   m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
     // The chunk's array and count are worked on in this thread's own variables, not in
     // the arrays of all chunks, whose neighbouring entries other work units write.
     std::vector<TPixel> chunkValues = std::move(m_Values[chunk]);
     SizeValueType       unrepairable = 0;
+    chunkValues.clear();
     chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
     this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
       // The run's coordinates along axes 1..N-1.
@@ -246,8 +243,15 @@ template <typename TPixel, unsigned int VDimension>
 SizeValueType
 RunRepair<TPixel, VDimension>::GetValueBytes() const
 {
+  return GetValueBytes(m_Values);
+}
+
+template <typename TPixel, unsigned int VDimension>
+SizeValueType
+RunRepair<TPixel, VDimension>::GetValueBytes(const std::vector<std::vector<TPixel>> & values)
+{
   SizeValueType bytes = 0;
-  for (const auto & chunkValues : m_Values)
+  for (const auto & chunkValues : values)
   {
     bytes += chunkValues.capacity() * sizeof(TPixel);
   }

@@ -682,18 +682,6 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected, std::ve
   }
 }
 
-auto
-RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
-                                  WorkTeam &                   team,
-                                  SizeValueType &              markedBytes) const -> std::vector<LineRun>
-{
-  std::vector<uint8_t> marked;
-  std::vector<LineRun> runs;
-  this->CollectCandidateRuns(selected, team, marked, runs);
-  markedBytes = marked.capacity();
-  return runs;
-}
-
 void
 RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
                                   WorkTeam &                   team,

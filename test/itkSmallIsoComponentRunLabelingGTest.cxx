@@ -196,15 +196,18 @@ CheckRandomVolume(RandomSource &                      random,
           }
         }
       }
-      // Alone, and shared among the work units of teams of one to three.
+      // Alone, and shared among the work units of teams of one to three, into the same
+      // arrays each time (as the filter reuses its own).
       std::vector<std::vector<RunLabeling::LineRun>> collections{ labeling.CollectCandidateRuns(selected) };
+      std::vector<uint8_t>                           marked;
+      std::vector<RunLabeling::LineRun>              reused;
       for (const unsigned int units : { 1u, 2u, 3u })
       {
         auto threader = itk::MultiThreaderBase::New();
         threader->SetNumberOfWorkUnits(units);
         itk::SmallIsoComponentDetail::WorkTeam team(threader, units);
-        SizeValueType                          markedBytes = 0;
-        collections.push_back(labeling.CollectCandidateRuns(selected, team, markedBytes));
+        labeling.CollectCandidateRuns(selected, team, marked, reused);
+        collections.push_back(reused);
       }
       for (const auto & collected : collections)
       {
