@@ -243,19 +243,11 @@ public:
       return (LineFirstAbove[line] != 0) == (((run - LineBegin[line]) & 1) == 0);
     }
     /** The run of \a line that holds voxel \a x (the last one starting at or before it; a
-     * line's first run starts at 0), found by a binary search without branches, which the
-     * run starts would make unpredictable. */
+     * line's first run starts at 0). */
     SizeValueType
     RunHolding(SizeValueType line, SizeValueType x) const
     {
-      const CoordinateType * holder = Start + LineBegin[line];
-      for (SizeValueType candidates = LineBegin[line + 1] - LineBegin[line]; candidates > 1;)
-      {
-        const SizeValueType half = candidates / 2;
-        holder = holder[half] <= x ? holder + half : holder;
-        candidates -= half;
-      }
-      return static_cast<SizeValueType>(holder - Start);
+      return this->LastStartingBy(LineBegin[line], LineBegin[line + 1], x);
     }
     /** Where among \a line's runs the run holding voxel \a x would be if the runs were
      * spread evenly along the line (\a perVoxel: 1 / LineLength). */
@@ -280,10 +272,18 @@ public:
       const SizeValueType high = std::min(end, guess + NearRuns + 1);
       if (low >= high || Start[low] > x || (high < end && Start[high] <= x))
       {
-        return this->RunHolding(line, x);
+        return this->LastStartingBy(begin, end, x);
       }
-      const CoordinateType * holder = Start + low;
-      for (SizeValueType candidates = high - low; candidates > 1;)
+      return this->LastStartingBy(low, high, x);
+    }
+    /** The last of the runs [first, last) (first starting at or before \a x) that starts at
+     * or before \a x, found by a binary search without branches, which the run starts
+     * would make unpredictable. */
+    SizeValueType
+    LastStartingBy(SizeValueType first, SizeValueType last, SizeValueType x) const
+    {
+      const CoordinateType * holder = Start + first;
+      for (SizeValueType candidates = last - first; candidates > 1;)
       {
         const SizeValueType half = candidates / 2;
         holder = holder[half] <= x ? holder + half : holder;
