@@ -406,7 +406,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
   const auto linkAndNumber = [this, &labeling] {
     labeling.LinkRuns();
     m_PhaseClock.End(PhaseEnum::Seams);
-    labeling.LabelComponents(m_EffectiveMaximumComponentSize);
+    // Only the sides a pass removes need their candidate runs.
+    const SizeValueType candidateSize = m_EffectiveMaximumComponentSize;
+    labeling.LabelComponents(m_Side == SideEnum::Below ? 0 : candidateSize,
+                             m_Side == SideEnum::Above ? 0 : candidateSize);
   };
   if (fill.IsEmpty())
   {

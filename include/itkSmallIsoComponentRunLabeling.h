@@ -169,7 +169,16 @@ public:
    * runs of every component of at most \a candidateSize voxels, and a few runs of the
    * larger ones. */
   void
-  LabelComponents(SizeValueType candidateSize);
+  LabelComponents(SizeValueType candidateSize)
+  {
+    this->LabelComponents(candidateSize, candidateSize);
+  }
+
+  /** The same with a candidate size for each side: the runs of the side whose size is 0
+   * are never candidates (for a filter that removes components of one side only, which
+   * then neither keeps nor visits the other side's). */
+  void
+  LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize);
 
   SizeValueType
   GetNumberOfComponents() const

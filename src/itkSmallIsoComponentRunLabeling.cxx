@@ -597,7 +597,7 @@ RunLabeling::LabelComponents()
 }
 
 void
-RunLabeling::LabelComponents(SizeValueType candidateSize)
+RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize)
 {
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
@@ -608,6 +608,10 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
   constexpr SizeValueType      BufferSize = 256;
   LineRun                      buffer[BufferSize];
   SizeValueType                buffered = 0;
+  const SizeValueType          candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
+  // The sizes are reached through a local pointer, renewed when a component is added, so
+  // that the loop does not read the vector's again for every run.
+  SizeValueType * sizes = m_ComponentSize.data();
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
     const SizeValueType end = m_LineRunBegin[line + 1];
@@ -623,6 +627,7 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
         component = static_cast<ComponentIndexType>(m_ComponentSize.size());
         m_ComponentSize.push_back(0);
         m_ComponentAbove.push_back(above);
+        sizes = m_ComponentSize.data();
       }
       else
       {
@@ -630,14 +635,14 @@ RunLabeling::LabelComponents(SizeValueType candidateSize)
       }
       label[run] = component;
       const SizeValueType size =
-        m_ComponentSize[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
-      m_ComponentSize[component] = size;
+        sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+      sizes[component] = size;
       // A component's size only grows, so every run of a component that ends at most
       // candidateSize voxels large is kept, in a small buffer emptied when full. A branch,
       // mispredicted where a speck begins or ends, measured faster than storing every run
       // into the buffer without one (51 against 62 ms on 28 million runs with a million
       // candidates).
-      if (size <= candidateSize)
+      if (size <= candidateSize[above])
       {
         buffer[buffered++] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
         if (buffered == BufferSize)

@@ -94,7 +94,9 @@ Label(SmallIsoComponentDetail::RunLabeling & labeling,
       bool                                   fullyConnected,
       unsigned int                           slabUnits,
       SizeValueType                          candidateSize,
-      unsigned int                           teamUnits = 2)
+      unsigned int                           teamUnits = 2,
+      bool                                   aboveCandidates = true,
+      bool                                   belowCandidates = true)
 {
   auto threader = MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(teamUnits);
@@ -103,7 +105,7 @@ Label(SmallIsoComponentDetail::RunLabeling & labeling,
   SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(values.data(), labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents(candidateSize);
+  labeling.LabelComponents(aboveCandidates ? candidateSize : 0, belowCandidates ? candidateSize : 0);
 }
 
 /** The component of every voxel, from the runs of a labeling. */

@@ -209,13 +209,32 @@ CheckRandomVolume(RandomSource &                      random,
         labeling.CollectCandidateRuns(selected, team, marked, reused);
         collections.push_back(reused);
       }
-      for (const auto & collected : collections)
+      std::vector<std::vector<RunLabeling::LineRun>> expectedOf(collections.size(), expected);
+      // With candidates kept for one side only, the same runs of that side's components.
+      for (const bool above : { true, false })
       {
-        ASSERT_EQ(collected.size(), expected.size());
-        for (SizeValueType i = 0; i < expected.size(); ++i)
+        RunLabeling oneSide;
+        Label(oneSide, values, ExtentOf(grid), 100.0, fullyConnected, 1, candidateSize, 2, above, !above);
+        std::vector<RunLabeling::LineRun> expectedOfSide;
+        for (const auto & run : expected)
         {
-          ASSERT_EQ(collected[i].Run, expected[i].Run);
-          ASSERT_EQ(collected[i].Line, expected[i].Line);
+          if (labeling.IsComponentAbove(runs.Component[run.Run]) == above)
+          {
+            expectedOfSide.push_back(run);
+          }
+        }
+        collections.push_back(oneSide.CollectCandidateRuns(selected));
+        expectedOf.push_back(expectedOfSide);
+      }
+      for (SizeValueType c = 0; c < collections.size(); ++c)
+      {
+        const auto & collected = collections[c];
+        const auto & expectedRuns = expectedOf[c];
+        ASSERT_EQ(collected.size(), expectedRuns.size()) << "collection " << c;
+        for (SizeValueType i = 0; i < expectedRuns.size(); ++i)
+        {
+          ASSERT_EQ(collected[i].Run, expectedRuns[i].Run);
+          ASSERT_EQ(collected[i].Line, expectedRuns[i].Line);
         }
       }
 
