@@ -288,11 +288,27 @@ SidesApart(uint64_t a, uint64_t b, SizeValueType word, uint64_t & opposite)
 SMALLISO_ALWAYS_INLINE void
 RunLabeling::UnionAt(uint64_t starts, uint64_t a, RunIndexType baseA, uint64_t b, RunIndexType baseB)
 {
+  // The pairs whose runs share a parent are in one set already and are left out before
+  // any union, without a branch: the union's own first test, whether the two share a
+  // parent, is true for about a third of the pairs of a random volume and mispredicts.
+  // A pair found apart here may be joined by an earlier pair's union meanwhile; the
+  // union then ends at its first test. (Linking random-384-u8: 165 -> 138 ms.)
+  const RunIndexType * const parent = m_RunLabel.data();
+  RunIndexType               pairA[64];
+  RunIndexType               pairB[64];
+  unsigned int               pairs = 0;
   for (; starts != 0; starts &= starts - 1)
   {
-    const uint64_t upTo = starts ^ (starts - 1);
-    this->Union(baseA + static_cast<RunIndexType>(CountBits(a & upTo)),
-                baseB + static_cast<RunIndexType>(CountBits(b & upTo)));
+    const uint64_t     upTo = starts ^ (starts - 1);
+    const RunIndexType runA = baseA + static_cast<RunIndexType>(CountBits(a & upTo));
+    const RunIndexType runB = baseB + static_cast<RunIndexType>(CountBits(b & upTo));
+    pairA[pairs] = runA;
+    pairB[pairs] = runB;
+    pairs += parent[runA] != parent[runB] ? 1 : 0;
+  }
+  for (unsigned int pair = 0; pair < pairs; ++pair)
+  {
+    this->Union(pairA[pair], pairB[pair]);
   }
 }
 
