@@ -353,24 +353,25 @@ private:
   RemoveBelow(WorkTeam & team);
   /** @} */
 
-  /** Counts the components of \a side in its statistics and decides which ones its pass
-   * removes: those with at most K voxels, when the pass runs and the output type has a
-   * value on the other side (else their voxels are unrepairable). sizeOf(i) is the size of
-   * entry i, or 0 for an entry that is no component of the side; one flag per entry, into
-   * \a removed. The entries are shared among the work units of \a team in as many parts
-   * (sizeOf is called concurrently), and the parts' counts added. */
-  template <typename TSizeOf>
+  /** Counts the entries of each side given a flag array (\a removedAbove, \a removedBelow;
+   * nullptr: that side is not decided) in the side's statistics and decides which ones its
+   * pass removes: those with at most K voxels, when the pass runs and the output type has
+   * a value on the other side (else their voxels are unrepairable). sizeOf(i) is the size
+   * of entry i (0: no entry), isAbove(i) its side; one flag per entry, into its side's
+   * array. The entries are shared among the work units of \a team in as many parts (sizeOf
+   * and isAbove are called concurrently), and the parts' counts added. */
+  template <typename TSizeOf, typename TIsAbove>
   void
   DecideRemovals(WorkTeam &             team,
-                 SideEnum               side,
                  SizeValueType          entries,
                  TSizeOf &&             sizeOf,
-                 std::vector<uint8_t> & removed);
+                 TIsAbove &&            isAbove,
+                 std::vector<uint8_t> * removedAbove,
+                 std::vector<uint8_t> * removedBelow);
 
-  /** DecideRemovals() over the labelling's components, those of the other side being no
-   * entries: one flag per component. */
+  /** DecideRemovals() over the labelling's components: one flag per component. */
   void
-  DecideComponentRemovals(WorkTeam & team, SideEnum side, std::vector<uint8_t> & removed);
+  DecideComponentRemovals(WorkTeam & team, std::vector<uint8_t> * removedAbove, std::vector<uint8_t> * removedBelow);
 
   /** The runs of the components flagged in \a removed, of \a side, into m_Working->Runs in
    * run order, the candidates shared among the work units of \a team. */

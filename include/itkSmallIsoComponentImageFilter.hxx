@@ -439,7 +439,11 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & team)
 {
   WorkingMemory & working = *m_Working;
-  this->DecideComponentRemovals(team, SideEnum::Above, working.RemovedAbove);
+  // Without a below pass after it, the above pass flips nothing, and the below side is
+  // decided on its components too, in the same pass over them; with one, the below side is
+  // decided after the above pass (GroupBelow()).
+  this->DecideComponentRemovals(
+    team, &working.RemovedAbove, m_Side == SideEnum::Both ? nullptr : &working.RemovedBelow);
   this->CollectRemovedRuns(team, working.RemovedAbove, SideEnum::Above);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
@@ -465,7 +469,10 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
   // components themselves, and no grouping is needed.
   if (!this->AbovePassFlips())
   {
-    this->DecideComponentRemovals(team, SideEnum::Below, working.RemovedBelow);
+    if (m_Side == SideEnum::Both)
+    {
+      this->DecideComponentRemovals(team, nullptr, &working.RemovedBelow);
+    }
     m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
     return;
   }
@@ -473,10 +480,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
   working.Grouping.Finish(working.RemovedAbove, working.Groups);
   this->DecideRemovals(
     team,
-    SideEnum::Below,
     groups.GroupSize.size(),
     [&groups](SizeValueType group) { return groups.GroupSize[group]; },
-    working.RemovedGroups);
+    [](SizeValueType) { return false; },
+    nullptr,
+    &working.RemovedGroups);
   working.RemovedBelow.resize(working.Labeling.GetNumberOfComponents());
   for (SizeValueType component = 0; component < working.RemovedBelow.size(); ++component)
   {
@@ -517,29 +525,49 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
 }
 
 template <typename TInputImage, typename TOutputImage>
-template <typename TSizeOf>
+template <typename TSizeOf, typename TIsAbove>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam &             team,
-                                                                        SideEnum               side,
                                                                         SizeValueType          entries,
                                                                         TSizeOf &&             sizeOf,
-                                                                        std::vector<uint8_t> & removed)
+                                                                        TIsAbove &&            isAbove,
+                                                                        std::vector<uint8_t> * removedAbove,
+                                                                        std::vector<uint8_t> * removedBelow)
 {
   const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
-  const bool                                                passRuns = m_Side == side || m_Side == SideEnum::Both;
-  const bool       repairable = side == SideEnum::Above ? threshold.AnyBelow() : threshold.AnyAbove();
-  SideStatistics & statistics = this->StatisticsOf(side);
-  removed.assign(entries, 0);
-  // One part per work unit (each holds a SizeCounter), counts added in the order of the
-  // parts. Each part is on cache lines of its own: the work units update their counts all
-  // along.
-  struct alignas(64) Part
+  // Per side (0 below, 1 above): whether it is decided, whether its pass removes, and
+  // whether the output type has a value on the other side to repair with.
+  const bool decided[2] = { removedBelow != nullptr, removedAbove != nullptr };
+  const bool passRuns[2] = { decided[0] && (m_Side == SideEnum::Below || m_Side == SideEnum::Both),
+                             decided[1] && (m_Side == SideEnum::Above || m_Side == SideEnum::Both) };
+  const bool removable[2] = { passRuns[0] && threshold.AnyAbove(), passRuns[1] && threshold.AnyBelow() };
+  const bool unrepairable[2] = { passRuns[0] && !threshold.AnyAbove(), passRuns[1] && !threshold.AnyBelow() };
+  for (std::vector<uint8_t> * removed : { removedBelow, removedAbove })
+  {
+    if (removed != nullptr)
+    {
+      removed->assign(entries, 0);
+    }
+  }
+  // An entry's flag goes to its side's array; an undecided side's entries (never removed)
+  // write their 0 to the other side's, which is 0 there.
+  uint8_t * const flags[2] = { (removedBelow != nullptr ? removedBelow : removedAbove)->data(),
+                               (removedAbove != nullptr ? removedAbove : removedBelow)->data() };
+  // One part per work unit (each holds a SizeCounter per side), counts added in the order
+  // of the parts. Each part is on cache lines of its own: the work units update their
+  // counts all along. Nothing in the loop branches on the entry's side, which is as often
+  // one as the other.
+  struct Counts
   {
     SmallIsoComponentDetail::SizeCounter Sizes;
     SizeValueType                        Components{ 0 };
     SizeValueType                        RemovedComponents{ 0 };
     SizeValueType                        RemovedVoxels{ 0 };
     SizeValueType                        UnrepairableVoxels{ 0 };
+  };
+  struct alignas(64) Part
+  {
+    Counts Side[2];
   };
   const SizeValueType parts = team.GetNumberOfParts(entries);
   std::vector<Part>   part(parts);
@@ -550,57 +578,59 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
     for (SizeValueType i = WorkTeam::PartBegin(entries, p, parts); i < end; ++i)
     {
       const SizeValueType size = sizeOf(i);
-      if (size == 0)
-      {
-        continue;
-      }
-      ++mine.Components;
-      mine.Sizes.Add(size);
-      if (!passRuns || size > maximum)
-      {
-        continue;
-      }
-      if (!repairable)
-      {
-        mine.UnrepairableVoxels += size;
-        continue;
-      }
-      ++mine.RemovedComponents;
-      mine.RemovedVoxels += size;
-      removed[i] = 1;
+      const unsigned int  side = isAbove(i) ? 1 : 0;
+      Counts &            counts = mine.Side[side];
+      // Size 0 is no entry (counted by the SizeCounter as nothing).
+      counts.Components += size != 0 ? 1 : 0;
+      counts.Sizes.Add(size);
+      const bool small = (size != 0) & (size <= maximum);
+      const bool remove = small & removable[side];
+      counts.RemovedComponents += remove ? 1 : 0;
+      counts.RemovedVoxels += size & (SizeValueType{ 0 } - static_cast<SizeValueType>(remove));
+      counts.UnrepairableVoxels += size & (SizeValueType{ 0 } - static_cast<SizeValueType>(small & unrepairable[side]));
+      flags[side][i] = remove ? 1 : 0;
     }
   });
-  for (SizeValueType p = 1; p < parts; ++p)
+  for (unsigned int side = 0; side < 2; ++side)
   {
-    part[0].Sizes.Add(part[p].Sizes);
+    if (!decided[side])
+    {
+      continue;
+    }
+    SideStatistics & statistics = this->StatisticsOf(side == 1 ? SideEnum::Above : SideEnum::Below);
+    for (SizeValueType p = 1; p < parts; ++p)
+    {
+      part[0].Side[side].Sizes.Add(part[p].Side[side].Sizes);
+    }
+    for (const Part & done : part)
+    {
+      statistics.Components += done.Side[side].Components;
+      statistics.RemovedComponents += done.Side[side].RemovedComponents;
+      statistics.RemovedVoxels += done.Side[side].RemovedVoxels;
+      m_NumberOfUnrepairableVoxels += done.Side[side].UnrepairableVoxels;
+    }
+    statistics.Histogram = part[0].Side[side].Sizes.Histogram();
   }
-  for (const Part & done : part)
-  {
-    statistics.Components += done.Components;
-    statistics.RemovedComponents += done.RemovedComponents;
-    statistics.RemovedVoxels += done.RemovedVoxels;
-    m_NumberOfUnrepairableVoxels += done.UnrepairableVoxels;
-  }
-  statistics.Histogram = part[0].Sizes.Histogram();
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals(WorkTeam &             team,
-                                                                                 SideEnum               side,
-                                                                                 std::vector<uint8_t> & removed)
+                                                                                 std::vector<uint8_t> * removedAbove,
+                                                                                 std::vector<uint8_t> * removedBelow)
 {
   const RunLabeling & labeling = m_Working->Labeling;
-  const bool          above = side == SideEnum::Above;
   this->DecideRemovals(
     team,
-    side,
     labeling.GetNumberOfComponents(),
-    [&labeling, above](SizeValueType index) {
-      const auto component = static_cast<RunLabeling::ComponentIndexType>(index);
-      return labeling.IsComponentAbove(component) == above ? labeling.GetComponentSize(component) : 0;
+    [&labeling](SizeValueType component) {
+      return labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
     },
-    removed);
+    [&labeling](SizeValueType component) {
+      return labeling.IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(component));
+    },
+    removedAbove,
+    removedBelow);
 }
 
 template <typename TInputImage, typename TOutputImage>

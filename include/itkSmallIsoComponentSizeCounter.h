@@ -54,7 +54,8 @@ public:
   void
   Add(const SizeCounter & other);
 
-  /** Size -> number of components of that size, for the sizes added. */
+  /** Size -> number of components of that size, for the sizes added but 0 (which counts
+   * nothing: adding it lets a loop count entries that are no component without a branch). */
   std::map<SizeValueType, SizeValueType>
   Histogram() const;
 

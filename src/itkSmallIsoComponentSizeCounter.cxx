@@ -38,7 +38,7 @@ std::map<SizeValueType, SizeValueType>
 SizeCounter::Histogram() const
 {
   std::map<SizeValueType, SizeValueType> histogram = m_Large;
-  for (SizeValueType size = 0; size < m_Small.size(); ++size)
+  for (SizeValueType size = 1; size < m_Small.size(); ++size)
   {
     if (m_Small[size] > 0)
     {
