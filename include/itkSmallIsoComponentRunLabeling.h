@@ -393,7 +393,8 @@ private:
   Union(RunIndexType a, RunIndexType b);
   /** Joins, for each set bit of \a starts in a word of two lines' boundary bits \a a and
    * \a b, the runs of the two lines holding that voxel (\a baseA and \a baseB: each line's
-   * last run before the word). */
+   * last run before the word). The pairs are listed first, and those whose runs already
+   * share a parent left out without a branch. */
   void
   UnionAt(uint64_t starts, uint64_t a, RunIndexType baseA, uint64_t b, RunIndexType baseB);
   /** Links the runs of two neighbouring lines, \a lineA after \a lineB, from their boundary
