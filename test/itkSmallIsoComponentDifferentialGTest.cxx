@@ -20,6 +20,8 @@
 // bit, every mask voxel and every statistic must agree, for 1, 2 and 7 work units.
 
 #include "itkSmallIsoComponentDifferential.h"
+#include <algorithm>
+#include <limits>
 
 using itk::SmallIsoComponentTest::ExpectFilterMatchesReference;
 
@@ -178,7 +180,10 @@ TEST(SmallIsoComponentDifferential, RepeatedUpdateTakesNoFreshMemory)
   // arrays (flags per component, removed runs, new values, the grouping) are megabytes, the
   // size the allocator maps afresh and gives back. Updated again on the same image, the
   // filter reuses what it kept: the process takes no page fault while it runs, at 1 and 2
-  // work units, and the output stays the reference's.
+  // work units, and the output stays the reference's. The process's count also takes in
+  // what the system does to it now and then (a page of code mapped again, one fault in some
+  // full runs of the tests on a busy machine), so of three such updates one must take none:
+  // memory taken afresh by the filter would fault in every one.
   using namespace itk::SmallIsoComponentTest;
   using ImageType = itk::Image<uint8_t, 3>;
   const std::array<itk::SizeValueType, 3> extent{ 160, 160, 160 };
@@ -204,11 +209,15 @@ TEST(SmallIsoComponentDifferential, RepeatedUpdateTakesNoFreshMemory)
     const auto filter = RunFilter<ImageType>(input, settings, workUnits);
     filter->Modified();
     filter->Update();
-    filter->Modified();
-    const long before = minorFaults();
-    filter->Update();
-    const long faults = minorFaults() - before;
-    EXPECT_EQ(faults, 0) << "work units " << workUnits << ": an update like the last one took fresh memory";
+    long fewest = std::numeric_limits<long>::max();
+    for (int update = 0; update < 3; ++update)
+    {
+      filter->Modified();
+      const long before = minorFaults();
+      filter->Update();
+      fewest = std::min(fewest, minorFaults() - before);
+    }
+    EXPECT_EQ(fewest, 0) << "work units " << workUnits << ": every update like the last one took fresh memory";
     EXPECT_EQ(DifferencesFromReference(filter.GetPointer(), expected, settings.MaximumComponentSize), "")
       << "work units " << workUnits;
   }
