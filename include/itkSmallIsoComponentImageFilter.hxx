@@ -403,32 +403,37 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
                                                                                  RunLabeling &        labeling,
                                                                                  const DeferredFill & fill)
 {
-  const auto linkAndNumber = [this, &labeling] {
+  // Only the sides a pass removes need their candidate runs.
+  const SizeValueType candidateSize = m_EffectiveMaximumComponentSize;
+  const SizeValueType aboveCandidateSize = m_Side == SideEnum::Below ? 0 : candidateSize;
+  const SizeValueType belowCandidateSize = m_Side == SideEnum::Above ? 0 : candidateSize;
+  if (fill.IsEmpty() || team.GetNumberOfWorkUnits() <= 1)
+  {
     labeling.LinkRuns();
     m_PhaseClock.End(PhaseEnum::Seams);
-    // Only the sides a pass removes need their candidate runs.
-    const SizeValueType candidateSize = m_EffectiveMaximumComponentSize;
-    labeling.LabelComponents(m_Side == SideEnum::Below ? 0 : candidateSize,
-                             m_Side == SideEnum::Above ? 0 : candidateSize);
-  };
-  if (fill.IsEmpty())
-  {
-    linkAndNumber();
+    labeling.LabelComponents(team, aboveCandidateSize, belowCandidateSize);
+    for (SizeValueType block = 0; block < fill.GetNumberOfBlocks(); ++block)
+    {
+      fill.FillBlock(block);
+    }
   }
   else
   {
-    // Item 0 is the serial linking and numbering; the other work units meanwhile write
-    // the output and the mask, block by block (the one that numbers joins them after).
+    // Item 0 is the serial linking of the seams; the other work units meanwhile write the
+    // output and the mask, block by block (the one that links joins them after). The
+    // numbering is shared after that.
     team.ForEach(1 + fill.GetNumberOfBlocks(), [&](SizeValueType item) {
       if (item == 0)
       {
-        linkAndNumber();
+        labeling.LinkRuns();
       }
       else
       {
         fill.FillBlock(item - 1);
       }
     });
+    m_PhaseClock.End(PhaseEnum::Seams);
+    labeling.LabelComponents(team, aboveCandidateSize, belowCandidateSize);
   }
   m_PhaseClock.End(PhaseEnum::Numbering);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + m_Working->GetPassBytes());

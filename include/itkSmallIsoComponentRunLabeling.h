@@ -180,6 +180,30 @@ public:
   void
   LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize);
 
+  /** The same, shared between two work units of \a team when it has several and there
+   * are at least GetMinimumRunsToShareNumbering() runs, as a pipeline: one numbers the
+   * components, line by line, and the other follows it, summing the sizes of the
+   * components and keeping the candidates of the lines numbered already. The result is
+   * that of the serial numbering. */
+  void
+  LabelComponents(WorkTeam & team, SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize);
+
+  /** Below this many runs the numbering is not shared: the second stage would spend its
+   * time waiting for the first. */
+  static constexpr SizeValueType MinimumRunsToShareNumbering = SizeValueType{ 1 } << 16;
+  /** Sets the runs from which the numbering is shared (for the tests: any number gives
+   * the same result). */
+  void
+  SetMinimumRunsToShareNumbering(SizeValueType runs)
+  {
+    m_MinimumRunsToShareNumbering = runs;
+  }
+  SizeValueType
+  GetMinimumRunsToShareNumbering() const
+  {
+    return m_MinimumRunsToShareNumbering;
+  }
+
   SizeValueType
   GetNumberOfComponents() const
   {
@@ -454,6 +478,15 @@ private:
   void
   LinkInsideSlab(SizeValueType slab);
 
+  /** The first stage of the shared numbering: gives every run its component, and says
+   * in \a numbered how many lines have theirs. */
+  void
+  NumberRuns(std::atomic<SizeValueType> & numbered);
+  /** The second stage: the sizes, sides and candidates of the components, line by line as
+   * \a numbered allows. */
+  void
+  SumComponents(const std::atomic<SizeValueType> & numbered, const SizeValueType candidateSize[2]);
+
 
   std::vector<SizeValueType>             m_Size;
   SizeValueType                          m_NumberOfLines{ 0 };
@@ -480,6 +513,7 @@ private:
   LargeArray<uint64_t>          m_KeptLineBits;
   LineLinking                   m_LineLinking{ LineLinking::Automatic };
   SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
+  SizeValueType                 m_MinimumRunsToShareNumbering{ MinimumRunsToShareNumbering };
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };
 };
 } // namespace SmallIsoComponentDetail

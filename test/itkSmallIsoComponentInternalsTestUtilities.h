@@ -105,7 +105,7 @@ Label(SmallIsoComponentDetail::RunLabeling & labeling,
   SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(values.data(), labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents(aboveCandidates ? candidateSize : 0, belowCandidates ? candidateSize : 0);
+  labeling.LabelComponents(team, aboveCandidates ? candidateSize : 0, belowCandidates ? candidateSize : 0);
 }
 
 /** The component of every voxel, from the runs of a labeling. */

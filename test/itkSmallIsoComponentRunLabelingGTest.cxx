@@ -19,8 +19,9 @@
 // The run labelling on its own: the components of both sides against a voxel flood fill
 // in 1-D to 4-D with either connectivity, the same numbering whatever the number of slabs
 // (so the seams between slabs are linked right), components numbered in the order of
-// their first run, the candidate runs, full connectivity through a single corner, the
-// memory it reports, and the same numbering whichever way lines are linked.
+// their first run, the candidate runs, the same numbering when it is shared among work
+// units, full connectivity through a single corner, the memory it reports, and the same
+// numbering whichever way lines are linked.
 
 #include "itkSmallIsoComponentInternalsTestUtilities.h"
 #include "gtest/gtest.h"
@@ -248,6 +249,43 @@ CheckRandomVolume(RandomSource &                      random,
     else
     {
       ASSERT_EQ(voxelComponent, firstNumbering) << slabUnits << " work units' slabs number differently";
+    }
+  }
+
+  // The numbering shared among two and three work units, whatever the number of runs:
+  // the components of every run, their sizes and sides, and the candidates of the serial
+  // numbering.
+  {
+    RunLabeling serial;
+    Label(serial, values, ExtentOf(grid), 100.0, fullyConnected, 2, candidateSize, 1);
+    const RunLabeling::RunTable serialRuns = serial.GetRunTable();
+    const SizeValueType         lastRun = serialRuns.LineBegin[serial.GetNumberOfLines()];
+    std::vector<uint8_t>        all(serial.GetNumberOfComponents(), 1);
+    const auto                  serialCandidates = serial.CollectCandidateRuns(all);
+    for (const unsigned int units : { 2u, 3u })
+    {
+      RunLabeling shared;
+      shared.SetMinimumRunsToShareNumbering(0);
+      Label(shared, values, ExtentOf(grid), 100.0, fullyConnected, 2, candidateSize, units);
+      const RunLabeling::RunTable sharedRuns = shared.GetRunTable();
+      for (SizeValueType run = 0; run < lastRun; ++run)
+      {
+        ASSERT_EQ(sharedRuns.Component[run], serialRuns.Component[run]) << "run " << run << ", " << units << " units";
+      }
+      ASSERT_EQ(shared.GetNumberOfComponents(), serial.GetNumberOfComponents());
+      for (SizeValueType c = 0; c < serial.GetNumberOfComponents(); ++c)
+      {
+        const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
+        ASSERT_EQ(shared.GetComponentSize(component), serial.GetComponentSize(component)) << "component " << c;
+        ASSERT_EQ(shared.IsComponentAbove(component), serial.IsComponentAbove(component)) << "component " << c;
+      }
+      const auto sharedCandidates = shared.CollectCandidateRuns(all);
+      ASSERT_EQ(sharedCandidates.size(), serialCandidates.size()) << units << " units";
+      for (SizeValueType i = 0; i < serialCandidates.size(); ++i)
+      {
+        ASSERT_EQ(sharedCandidates[i].Run, serialCandidates[i].Run);
+        ASSERT_EQ(sharedCandidates[i].Line, serialCandidates[i].Line);
+      }
     }
   }
 
