@@ -478,14 +478,21 @@ private:
   void
   LinkInsideSlab(SizeValueType slab);
 
-  /** The first stage of the shared numbering: gives every run its component, and says
-   * in \a numbered how many lines have theirs. */
+  /** How far the first stage of the shared numbering is: the lines whose runs have their
+   * components, and the components numbered by then (at least). */
+  struct Progress
+  {
+    std::atomic<SizeValueType> Lines{ 0 };
+    std::atomic<SizeValueType> Components{ 0 };
+  };
+  /** The first stage of the shared numbering: gives every run its component and every
+   * component its side, and says in \a progress how far it is. */
   void
-  NumberRuns(std::atomic<SizeValueType> & numbered);
-  /** The second stage: the sizes, sides and candidates of the components, line by line as
-   * \a numbered allows. */
+  NumberRuns(Progress & progress);
+  /** The second stage: the sizes and candidates of the components, line by line as
+   * \a progress allows. */
   void
-  SumComponents(const std::atomic<SizeValueType> & numbered, const SizeValueType candidateSize[2]);
+  SumComponents(const Progress & progress, const SizeValueType candidateSize[2]);
 
 
   std::vector<SizeValueType>             m_Size;

@@ -686,25 +686,25 @@ RunLabeling::LabelComponents(WorkTeam & team, SizeValueType aboveCandidateSize, 
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_CandidateRuns.clear();
-  const SizeValueType        candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
-  std::atomic<SizeValueType> numbered{ 0 };
+  const SizeValueType candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
+  Progress            progress;
   // The items are handed out in order: whoever takes the second finds the first under way
   // (or done), and the first never waits.
   team.ForEach(2, [&](SizeValueType stage) {
     if (stage == 0)
     {
-      this->NumberRuns(numbered);
+      this->NumberRuns(progress);
     }
     else
     {
-      this->SumComponents(numbered, candidateSize);
+      this->SumComponents(progress, candidateSize);
     }
   });
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
 }
 
 void
-RunLabeling::NumberRuns(std::atomic<SizeValueType> & numbered)
+RunLabeling::NumberRuns(Progress & progress)
 {
   RunIndexType * const    label = m_RunLabel.data();
   ComponentIndexType      components = 0;
@@ -712,7 +712,8 @@ RunLabeling::NumberRuns(std::atomic<SizeValueType> & numbered)
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
     const SizeValueType end = m_LineRunBegin[line + 1];
-    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run)
+    bool                above = m_LineFirstAbove[line] != 0;
+    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
     {
       // Parents never point to a later run, so the parent's entry already holds its
       // component number.
@@ -721,6 +722,7 @@ RunLabeling::NumberRuns(std::atomic<SizeValueType> & numbered)
       if (parent == run)
       {
         component = components++;
+        m_ComponentAbove.push_back(above);
       }
       else
       {
@@ -730,14 +732,16 @@ RunLabeling::NumberRuns(std::atomic<SizeValueType> & numbered)
     }
     if ((line + 1) % LinesPerStep == 0)
     {
-      numbered.store(line + 1, std::memory_order_release);
+      progress.Components.store(components, std::memory_order_relaxed);
+      progress.Lines.store(line + 1, std::memory_order_release);
     }
   }
-  numbered.store(m_NumberOfLines, std::memory_order_release);
+  progress.Components.store(components, std::memory_order_relaxed);
+  progress.Lines.store(m_NumberOfLines, std::memory_order_release);
 }
 
 void
-RunLabeling::SumComponents(const std::atomic<SizeValueType> & numbered, const SizeValueType candidateSize[2])
+RunLabeling::SumComponents(const Progress & progress, const SizeValueType candidateSize[2])
 {
   const RunIndexType * const   label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
@@ -746,31 +750,25 @@ RunLabeling::SumComponents(const std::atomic<SizeValueType> & numbered, const Si
   LineRun                      buffer[BufferSize];
   SizeValueType                buffered = 0;
   SizeValueType *              sizes = m_ComponentSize.data();
-  SizeValueType                components = 0;
   SizeValueType                ready = 0;
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
-    while (line >= ready)
+    if (line >= ready)
     {
-      ready = numbered.load(std::memory_order_acquire);
-      if (line >= ready)
+      // The sizes of the components numbered so far are made room for at once, rather
+      // than one by one behind a branch on every run.
+      while ((ready = progress.Lines.load(std::memory_order_acquire)) <= line)
       {
         std::this_thread::yield();
       }
+      m_ComponentSize.resize(progress.Components.load(std::memory_order_relaxed), 0);
+      sizes = m_ComponentSize.data();
     }
     const SizeValueType end = m_LineRunBegin[line + 1];
     bool                above = m_LineFirstAbove[line] != 0;
     for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
     {
-      // Components are numbered in order of their first run: a new one is the next number.
       const SizeValueType component = label[run];
-      if (component == components)
-      {
-        m_ComponentSize.push_back(0);
-        m_ComponentAbove.push_back(above);
-        sizes = m_ComponentSize.data();
-        ++components;
-      }
       const SizeValueType size =
         sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
       sizes[component] = size;
