@@ -31,7 +31,7 @@ namespace SmallIsoComponentDetail
  *
  * Large images of one pixel type are encoded from the input, and the output and the mask
  * are written afterwards with streaming stores, block by block, by the work units that the
- * serial numbering of the components leaves free. An empty fill (the default) has nothing
+ * serial linking of the seams leaves free. An empty fill (the default) has nothing
  * left to write: the encoding wrote the output and the mask itself.
  *
  * \ingroup SmallIsoComponent
@@ -64,6 +64,15 @@ public:
   GetNumberOfBlocks() const
   {
     return m_NumberOfBlocks;
+  }
+
+  /** The bytes the fill writes in all (the output's, unless the filter runs in place, and
+   * the mask's). */
+  SizeValueType
+  GetNumberOfBytes() const
+  {
+    return m_NumberOfLines *
+           ((m_Source != nullptr ? m_OutputLineBytes : 0) + (m_Mask != nullptr ? m_MaskLineBytes : 0));
   }
 
   /** Writes the output and the mask lines of \a block, with streaming stores. Different

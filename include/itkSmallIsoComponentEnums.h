@@ -47,9 +47,10 @@ public:
    * The phases of an update that labels the whole image, in order (docs/algorithm.md).
    * Encoding: the lines' runs (and the output's copy of the input).
    * Linking: the runs linked inside each slab of lines, the slabs shared among the work units.
-   * Seams: the runs linked across the slabs' borders (one work unit).
-   * Numbering: the components numbered and their sizes summed (one work unit; the others
-   * meanwhile write the output's copy of a large input).
+   * Seams: the runs linked across the slabs' borders (one work unit; the others meanwhile
+   * write the output's copy of a large input).
+   * Numbering: the components numbered and their sizes summed (at several work units, two
+   * of them as a pipeline; at one, with the output's copy of a large input after it).
    * Deciding: which components each pass removes, their runs gathered, and the below side's
    * components grouped through the flipped ones.
    * Repair: the repaired value of every removed voxel computed.

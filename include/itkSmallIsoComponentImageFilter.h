@@ -219,6 +219,12 @@ public:
   static constexpr SizeValueType ChosenSlabVoxels = 16777216;              // 2^24
   /** @} */
 
+  /** Where the output's copy of a large input and the mask are written after the runs are
+   * encoded, the numbering of the components is shared between two work units only if they
+   * take at most this many bytes per run: else writing them is the longer work, and goes
+   * better beside a serial numbering, which leaves every other work unit free for it. */
+  static constexpr SizeValueType FillBytesPerRunToShareNumbering = 16;
+
   /** \name Working memory kept between updates
    * The arrays of the scanline runs (8 bytes per run, the bulk of
    * GetPeakExtraMemoryInBytes()) and those of the passes (a flag per component, the removed
@@ -329,7 +335,7 @@ private:
 
   /** Links the touching runs of each side (what the assembly of the runs left: the seams
    * between slabs) and numbers the components, keeping the runs of the components of at
-   * most K voxels as candidates; meanwhile the other work units do \a fill. */
+   * most K voxels as candidates; the work units that would wait meanwhile do \a fill. */
   void
   LinkAndNumberComponents(WorkTeam & team, RunLabeling & labeling, const DeferredFill & fill);
 

@@ -26,6 +26,7 @@
 #include "itkSmallIsoComponentStreamingSweep.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 namespace itk
@@ -419,21 +420,49 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
   }
   else
   {
-    // Item 0 is the serial linking of the seams; the other work units meanwhile write the
-    // output and the mask, block by block (the one that links joins them after). The
-    // numbering is shared after that.
-    team.ForEach(1 + fill.GetNumberOfBlocks(), [&](SizeValueType item) {
+    // The output and the mask are written, block by block, by the work units that would
+    // otherwise wait: beside the serial linking of the seams, then wherever the numbering
+    // leaves one free (LabelComponents()); what is left after it, by all of them.
+    std::atomic<SizeValueType> nextBlock{ 0 };
+    const SizeValueType        blocks = fill.GetNumberOfBlocks();
+    const auto                 fillOne = [&fill, &nextBlock, blocks] {
+      const SizeValueType block = nextBlock.fetch_add(1);
+      if (block >= blocks)
+      {
+        return false;
+      }
+      fill.FillBlock(block);
+      return true;
+    };
+    std::atomic<bool> seamsLinked{ false };
+    team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType item) {
       if (item == 0)
       {
         labeling.LinkRuns();
+        seamsLinked.store(true, std::memory_order_release);
       }
       else
       {
-        fill.FillBlock(item - 1);
+        while (!seamsLinked.load(std::memory_order_acquire) && fillOne())
+        {}
       }
     });
     m_PhaseClock.End(PhaseEnum::Seams);
-    labeling.LabelComponents(team, aboveCandidateSize, belowCandidateSize);
+    // A fill long beside the numbering is better written beside a serial numbering, which
+    // leaves every other work unit free for it, than in the moments a shared one leaves
+    // (bonsai, 550,000 runs and 32 MiB to write: 0.93 against 1.41 ms at two work units).
+    labeling.LabelComponents(team,
+                             aboveCandidateSize,
+                             belowCandidateSize,
+                             fillOne,
+                             labeling.GetNumberOfRuns() * FillBytesPerRunToShareNumbering >= fill.GetNumberOfBytes());
+    if (nextBlock.load() < blocks)
+    {
+      team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType) {
+        while (fillOne())
+        {}
+      });
+    }
   }
   m_PhaseClock.End(PhaseEnum::Numbering);
   m_ExtraMemory.Hold(labeling.GetMemoryInBytes() + m_Working->GetPassBytes());

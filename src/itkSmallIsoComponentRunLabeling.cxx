@@ -21,6 +21,7 @@
 #include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <numeric>
 #include <thread>
@@ -676,11 +677,37 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
 }
 
 void
-RunLabeling::LabelComponents(WorkTeam & team, SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize)
+RunLabeling::LabelComponents(WorkTeam &                    team,
+                             SizeValueType                 aboveCandidateSize,
+                             SizeValueType                 belowCandidateSize,
+                             const std::function<bool()> & otherWork,
+                             bool                          share)
 {
-  if (team.GetNumberOfWorkUnits() < 2 || m_NumberOfRuns < m_MinimumRunsToShareNumbering)
+  const auto doOtherWork = [&otherWork] {
+    if (otherWork)
+    {
+      while (otherWork())
+      {}
+    }
+  };
+  if (team.GetNumberOfWorkUnits() < 2)
   {
     this->LabelComponents(aboveCandidateSize, belowCandidateSize);
+    return;
+  }
+  if (!share || m_NumberOfRuns < m_MinimumRunsToShareNumbering)
+  {
+    // Serial, the other work beside it.
+    team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType item) {
+      if (item == 0)
+      {
+        this->LabelComponents(aboveCandidateSize, belowCandidateSize);
+      }
+      else
+      {
+        doOtherWork();
+      }
+    });
     return;
   }
   m_ComponentSize.clear();
@@ -690,14 +717,20 @@ RunLabeling::LabelComponents(WorkTeam & team, SizeValueType aboveCandidateSize, 
   Progress            progress;
   // The items are handed out in order: whoever takes the second finds the first under way
   // (or done), and the first never waits.
-  team.ForEach(2, [&](SizeValueType stage) {
+  team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType stage) {
     if (stage == 0)
     {
+      // The shorter stage: the other work after it.
       this->NumberRuns(progress);
+      doOtherWork();
+    }
+    else if (stage == 1)
+    {
+      this->SumComponents(progress, candidateSize, otherWork);
     }
     else
     {
-      this->SumComponents(progress, candidateSize);
+      doOtherWork();
     }
   });
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
@@ -741,7 +774,9 @@ RunLabeling::NumberRuns(Progress & progress)
 }
 
 void
-RunLabeling::SumComponents(const Progress & progress, const SizeValueType candidateSize[2])
+RunLabeling::SumComponents(const Progress &              progress,
+                           const SizeValueType           candidateSize[2],
+                           const std::function<bool()> & otherWork)
 {
   const RunIndexType * const   label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
@@ -759,7 +794,10 @@ RunLabeling::SumComponents(const Progress & progress, const SizeValueType candid
       // than one by one behind a branch on every run.
       while ((ready = progress.Lines.load(std::memory_order_acquire)) <= line)
       {
-        std::this_thread::yield();
+        if (!otherWork || !otherWork())
+        {
+          std::this_thread::yield();
+        }
       }
       m_ComponentSize.resize(progress.Components.load(std::memory_order_relaxed), 0);
       sizes = m_ComponentSize.data();

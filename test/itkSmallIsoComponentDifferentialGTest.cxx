@@ -171,6 +171,47 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
   }
 }
 
+TEST(SmallIsoComponentDifferential, DenseNoiseWithSharedNumbering3D)
+{
+  // Each voxel of a 192x128x128 uint8 volume above or below the isovalue with probability
+  // 1/2: about 1.6 million runs, enough for the numbering to be shared between two work
+  // units, with the output and the mask written in the moments it leaves free. Both sides
+  // and Side Above, every bit against the reference at 1, 2 and 3 work units.
+  using namespace itk::SmallIsoComponentTest;
+  using ImageType = itk::Image<uint8_t, 3>;
+  const std::array<itk::SizeValueType, 3> extent{ 192, 128, 128 };
+  RandomSource                            random(14001u);
+  std::vector<uint8_t>                    values(extent[0] * extent[1] * extent[2]);
+  for (auto & value : values)
+  {
+    value = static_cast<uint8_t>(random.Chance(0.5) ? random.Between(129, 255) : random.Between(0, 127));
+  }
+  itk::SizeValueType runs = 0;
+  for (itk::SizeValueType i = 0; i < values.size(); ++i)
+  {
+    runs += (i % extent[0] == 0 || (values[i] > 128) != (values[i - 1] > 128)) ? 1 : 0;
+  }
+  ASSERT_GE(runs, itk::SmallIsoComponentDetail::RunLabeling::MinimumRunsToShareNumbering)
+    << "the volume no longer has the runs to share the numbering";
+  ASSERT_LE(2 * values.size(), itk::SmallIsoComponentImageFilter<ImageType>::FillBytesPerRunToShareNumbering * runs)
+    << "the output and the mask would be written beside a serial numbering";
+  const auto input = MakeImage<uint8_t, 3>(extent, values);
+  for (const auto side : { SideEnum::Both, SideEnum::Above })
+  {
+    Parameters settings;
+    settings.IsoValue = 128;
+    settings.MaximumComponentSize = 20;
+    settings.Side = side;
+    const auto expected = Reference::Run<uint8_t>(input.GetPointer(), settings);
+    for (const unsigned int workUnits : { 1u, 2u, 3u })
+    {
+      const auto filter = RunFilter<ImageType>(input, settings, workUnits);
+      EXPECT_EQ(DifferencesFromReference(filter.GetPointer(), expected, settings.MaximumComponentSize), "")
+        << "side " << side << " workUnits=" << workUnits;
+    }
+  }
+}
+
 #if defined(__linux__)
 #  include <sys/resource.h>
 
