@@ -450,7 +450,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     m_PhaseClock.End(PhaseEnum::Seams);
     // A fill long beside the numbering is better written beside a serial numbering, which
     // leaves every other work unit free for it, than in the moments a shared one leaves
-    // (bonsai, 550,000 runs and 32 MiB to write: 0.93 against 1.41 ms at two work units).
+    // (bonsai, 32 MiB to write beside 0.9 ms of serial numbering: 0.93 against 1.41 ms at
+    // two work units).
     labeling.LabelComponents(team,
                              aboveCandidateSize,
                              belowCandidateSize,

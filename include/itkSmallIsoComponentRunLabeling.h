@@ -202,8 +202,8 @@ public:
 
   /** Below this many runs the numbering is not shared. It then takes a millisecond or two;
    * sharing it was measured to pay on a dense random volume (28 million runs: 49 against
-   * 37 ms), and to lose on real volumes of about 550,000 runs with the output written
-   * beside it. */
+   * 37 ms), and to lose on the benchmark's real volumes, whose serial numbering takes about
+   * a millisecond, with the output written beside it. */
   static constexpr SizeValueType MinimumRunsToShareNumbering = SizeValueType{ 1 } << 20;
   /** Sets the runs from which the numbering is shared (for the tests: any number gives
    * the same result). */

@@ -609,6 +609,40 @@ RunLabeling::LinkRuns()
   this->GiveBackLineBits(std::move(bits));
 }
 
+namespace
+{
+/** Candidate runs gathered in a small buffer, appended to \a runs when it is full and at the
+ * end: a run is one store, and the vector is reached once per BufferSize runs. */
+class CandidateBuffer
+{
+public:
+  explicit CandidateBuffer(std::vector<RunLabeling::LineRun> & runs)
+    : m_Runs(runs)
+  {}
+  void
+  Add(SizeValueType run, SizeValueType line)
+  {
+    m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run), static_cast<RunLabeling::RunIndexType>(line) };
+    if (m_Count == BufferSize)
+    {
+      this->Flush();
+    }
+  }
+  void
+  Flush()
+  {
+    m_Runs.insert(m_Runs.end(), m_Buffer, m_Buffer + m_Count);
+    m_Count = 0;
+  }
+
+private:
+  static constexpr SizeValueType      BufferSize = 256;
+  std::vector<RunLabeling::LineRun> & m_Runs;
+  RunLabeling::LineRun                m_Buffer[BufferSize];
+  SizeValueType                       m_Count{ 0 };
+};
+} // namespace
+
 void
 RunLabeling::LabelComponents()
 {
@@ -625,9 +659,7 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
   RunIndexType * const         label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
-  constexpr SizeValueType      BufferSize = 256;
-  LineRun                      buffer[BufferSize];
-  SizeValueType                buffered = 0;
+  CandidateBuffer              candidates(m_CandidateRuns);
   const SizeValueType          candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
   // The sizes are reached through a local pointer, renewed when a component is added, so
   // that the loop does not read the vector's again for every run.
@@ -664,16 +696,11 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
       // candidates).
       if (size <= candidateSize[above])
       {
-        buffer[buffered++] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
-        if (buffered == BufferSize)
-        {
-          m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
-          buffered = 0;
-        }
+        candidates.Add(run, line);
       }
     }
   }
-  m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
+  candidates.Flush();
 }
 
 void
@@ -781,9 +808,7 @@ RunLabeling::SumComponents(const Progress &              progress,
   const RunIndexType * const   label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
-  constexpr SizeValueType      BufferSize = 256;
-  LineRun                      buffer[BufferSize];
-  SizeValueType                buffered = 0;
+  CandidateBuffer              candidates(m_CandidateRuns);
   SizeValueType *              sizes = m_ComponentSize.data();
   SizeValueType                ready = 0;
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
@@ -812,16 +837,11 @@ RunLabeling::SumComponents(const Progress &              progress,
       sizes[component] = size;
       if (size <= candidateSize[above])
       {
-        buffer[buffered++] = { static_cast<RunIndexType>(run), static_cast<RunIndexType>(line) };
-        if (buffered == BufferSize)
-        {
-          m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
-          buffered = 0;
-        }
+        candidates.Add(run, line);
       }
     }
   }
-  m_CandidateRuns.insert(m_CandidateRuns.end(), buffer, buffer + buffered);
+  candidates.Flush();
 }
 
 auto
