@@ -188,11 +188,10 @@ public:
    * that of the serial numbering. \a otherWork (if given, and with several work units)
    * fills the time a work unit would wait: it does one piece of some other work and
    * returns true, or returns false when none is left. It is called by the second stage
-   * while the first has no lines ready for it, by the first once it is done, and, with
-   * fewer runs, by a second work unit while the numbering runs serially beside it;
-   * concurrently, so it must hand out its pieces safely. What it leaves is the caller's.
-   * With \a share false the numbering is serial whatever the number of runs, the other
-   * work beside it. */
+   * while the first has no lines ready for it, by the first once it is done, by any
+   * further work units from the start, and, where the numbering is serial (fewer runs, or
+   * \a share false), by the other work units beside it; concurrently, so it must hand out
+   * its pieces safely. What it leaves is the caller's. */
   void
   LabelComponents(WorkTeam &                    team,
                   SizeValueType                 aboveCandidateSize,
