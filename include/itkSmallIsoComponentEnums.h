@@ -49,8 +49,10 @@ public:
    * Linking: the runs linked inside each slab of lines, the slabs shared among the work units.
    * Seams: the runs linked across the slabs' borders (one work unit; the others meanwhile
    * write the output's copy of a large input).
-   * Numbering: the components numbered and their sizes summed (at several work units, two
-   * of them as a pipeline; at one, with the output's copy of a large input after it).
+   * Numbering: the components numbered and their sizes summed (at several work units and
+   * 2^20 runs or more, two of them as a pipeline, the output's copy written in the moments
+   * it leaves; else one work unit, the others writing the copy beside it; at one work unit,
+   * with the copy after it).
    * Deciding: which components each pass removes, their runs gathered, and the below side's
    * components grouped through the flipped ones.
    * Repair: the repaired value of every removed voxel computed.

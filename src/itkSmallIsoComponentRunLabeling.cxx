@@ -717,14 +717,10 @@ RunLabeling::LabelComponents(WorkTeam &                    team,
       {}
     }
   };
-  if (team.GetNumberOfWorkUnits() < 2)
+  if (team.GetNumberOfWorkUnits() < 2 || !share || m_NumberOfRuns < m_MinimumRunsToShareNumbering)
   {
-    this->LabelComponents(aboveCandidateSize, belowCandidateSize);
-    return;
-  }
-  if (!share || m_NumberOfRuns < m_MinimumRunsToShareNumbering)
-  {
-    // Serial, the other work beside it.
+    // Serial, the other work beside it (with one work unit, no other work: ForEach() then
+    // runs item 0 alone).
     team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType item) {
       if (item == 0)
       {
