@@ -520,11 +520,33 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
     [](SizeValueType) { return false; },
     nullptr,
     &working.RemovedGroups);
-  working.RemovedBelow.resize(working.Labeling.GetNumberOfComponents());
-  for (SizeValueType component = 0; component < working.RemovedBelow.size(); ++component)
+  // A component is removed with its group. The voxels of a removed group's flipped
+  // members were counted as modified by the above pass already, and are not counted again.
+  const SizeValueType components = working.Labeling.GetNumberOfComponents();
+  working.RemovedBelow.resize(components);
+  const SizeValueType                           parts = team.GetNumberOfParts(components);
+  std::vector<SizeValueType>                    countedAlready(parts, 0);
+  const RunLabeling::ComponentIndexType * const groupOf = groups.GroupOfComponent.data();
+  const uint8_t * const                         removedGroup = working.RemovedGroups.data();
+  const uint8_t * const                         removedAbove = working.RemovedAbove.data();
+  uint8_t * const                               removedBelow = working.RemovedBelow.data();
+  const RunLabeling &                           labeling = working.Labeling;
+  team.ForEach(parts, [&](SizeValueType part) {
+    const SizeValueType end = WorkTeam::PartBegin(components, part + 1, parts);
+    SizeValueType       counted = 0;
+    for (SizeValueType component = WorkTeam::PartBegin(components, part, parts); component < end; ++component)
+    {
+      const RunLabeling::ComponentIndexType group = groupOf[component];
+      const uint8_t removed = group != BelowGrouping::NoGroup ? removedGroup[group] : uint8_t{ 0 };
+      removedBelow[component] = removed;
+      counted += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component)) &
+                 (SizeValueType{ 0 } - static_cast<SizeValueType>(removed & removedAbove[component]));
+    }
+    countedAlready[part] = counted;
+  });
+  for (const SizeValueType counted : countedAlready)
   {
-    const RunLabeling::ComponentIndexType group = groups.GroupOfComponent[component];
-    working.RemovedBelow[component] = group != BelowGrouping::NoGroup && working.RemovedGroups[group];
+    m_NumberOfModifiedVoxels -= counted;
   }
   m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
 }
@@ -541,22 +563,11 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveBelow(WorkTeam & 
   m_PhaseClock.End(PhaseEnum::Deciding);
   this->RepairRuns(team, working.Runs, SideEnum::Below, nullptr);
   working.Runs.clear();
-  // Every voxel of a removed group is written; those of its flipped members were written
-  // by the above pass already. (Without flips a group is one below component, and the
-  // flags of the two passes mark components of different sides.)
-  SizeValueType writtenAgain = 0;
-  if (this->AbovePassFlips())
-  {
-    for (SizeValueType component = 0; component < working.RemovedBelow.size(); ++component)
-    {
-      if (working.RemovedBelow[component] && working.RemovedAbove[component])
-      {
-        writtenAgain += working.Labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
-      }
-    }
-  }
-  m_NumberOfModifiedVoxels += m_BelowStatistics.RemovedVoxels - writtenAgain;
-  m_PhaseClock.End(PhaseEnum::Deciding);
+  // Every voxel of a removed group is written; those of its flipped members were counted
+  // by the above pass already, and taken off again by GroupBelow(). (Without flips a group
+  // is one below component, and the flags of the two passes mark components of different
+  // sides.)
+  m_NumberOfModifiedVoxels += m_BelowStatistics.RemovedVoxels;
 }
 
 template <typename TInputImage, typename TOutputImage>

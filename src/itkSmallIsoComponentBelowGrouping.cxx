@@ -319,6 +319,9 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
   const SizeValueType numberOfComponents = m_Labeling->GetNumberOfComponents();
   groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
   groups.GroupSize.clear();
+  // No Find() is needed: a component's parent is a member of its group with a smaller
+  // index (roots are the smallest member, and a root is only ever linked under a smaller
+  // one), so the parent's group is known by the time the component is reached.
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
     const auto member = static_cast<ComponentIndexType>(c);
@@ -326,15 +329,19 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
     {
       continue;
     }
-    const ComponentIndexType root = this->Find(member);
-    // Roots are the smallest member, so a root's group is numbered before its members.
-    if (groups.GroupOfComponent[root] == NoGroup)
+    const ComponentIndexType parent = m_Parent[c].load(std::memory_order_relaxed);
+    ComponentIndexType       group;
+    if (parent == member)
     {
-      groups.GroupOfComponent[root] = static_cast<ComponentIndexType>(groups.GroupSize.size());
+      group = static_cast<ComponentIndexType>(groups.GroupSize.size());
       groups.GroupSize.push_back(0);
     }
-    groups.GroupOfComponent[c] = groups.GroupOfComponent[root];
-    groups.GroupSize[groups.GroupOfComponent[c]] += m_Labeling->GetComponentSize(member);
+    else
+    {
+      group = groups.GroupOfComponent[parent];
+    }
+    groups.GroupOfComponent[c] = group;
+    groups.GroupSize[group] += m_Labeling->GetComponentSize(member);
   }
 }
 } // namespace SmallIsoComponentDetail
