@@ -452,11 +452,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     // leaves every other work unit free for it, than in the moments a shared one leaves
     // (bonsai, 32 MiB to write beside 0.9 ms of serial numbering: 0.93 against 1.41 ms at
     // two work units).
+    // With Side Both, the memory of the groups' component table and of the removed runs,
+    // taken later anyway, serves a shared numbering's partial sums first.
+    const bool bothSides = m_Side == SideEnum::Both;
     labeling.LabelComponents(team,
                              aboveCandidateSize,
                              belowCandidateSize,
                              fillOne,
-                             labeling.GetNumberOfRuns() * FillBytesPerRunToShareNumbering >= fill.GetNumberOfBytes());
+                             labeling.GetNumberOfRuns() * FillBytesPerRunToShareNumbering >= fill.GetNumberOfBytes(),
+                             bothSides ? &m_Working->Groups.GroupOfComponent : nullptr,
+                             bothSides ? &m_Working->Runs : nullptr);
     if (nextBlock.load() < blocks)
     {
       team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType) {

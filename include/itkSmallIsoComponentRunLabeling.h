@@ -181,6 +181,7 @@ public:
   void
   LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize);
 
+  struct LineRun;
   /** The same, shared between two work units of \a team when it has several and there
    * are at least GetMinimumRunsToShareNumbering() runs, as a pipeline: one numbers the
    * components, line by line, and the other follows it, summing the sizes of the
@@ -191,13 +192,24 @@ public:
    * while the first has no lines ready for it, by the first once it is done, by any
    * further work units from the start, and, where the numbering is serial (fewer runs, or
    * \a share false), by the other work units beside it; concurrently, so it must hand out
-   * its pieces safely. What it leaves is the caller's. */
+   * its pieces safely. What it leaves is the caller's.
+   *
+   * Given two scratch arrays (\a partialSizes and \a partialCandidates, whose contents
+   * are lost and whose memory is kept), the first work unit, once done with its stage and
+   * the other work, sums the last lines itself, taking them from the end while the second
+   * takes them from the front, into sizes of its own added to the others at the end. The
+   * sizes and side of every component are then those of the serial numbering, and so are
+   * the candidates of the components of at most the candidate size (see
+   * CollectCandidateRuns()); which runs of larger components are candidates too depends
+   * on how the lines were shared. */
   void
-  LabelComponents(WorkTeam &                    team,
-                  SizeValueType                 aboveCandidateSize,
-                  SizeValueType                 belowCandidateSize,
-                  const std::function<bool()> & otherWork = {},
-                  bool                          share = true);
+  LabelComponents(WorkTeam &                        team,
+                  SizeValueType                     aboveCandidateSize,
+                  SizeValueType                     belowCandidateSize,
+                  const std::function<bool()> &     otherWork = {},
+                  bool                              share = true,
+                  std::vector<ComponentIndexType> * partialSizes = nullptr,
+                  std::vector<LineRun> *            partialCandidates = nullptr);
 
   /** Below this many runs the numbering is not shared. It then takes a millisecond or two;
    * sharing it was measured to pay on a dense random volume (28 million runs: 49 against
@@ -215,6 +227,17 @@ public:
   GetMinimumRunsToShareNumbering() const
   {
     return m_MinimumRunsToShareNumbering;
+  }
+
+  /** With the scratch arrays, the two stages of a shared numbering share its lines out in
+   * claims of this many lines. A claim is taken from the front (the low 32 bits of a word:
+   * the next claim) or from the end (the high 32 bits: one past the last claim left). */
+  static constexpr SizeValueType LinesPerClaim = 64;
+  /** Sets the lines per claim (for the tests: any number gives the same result). */
+  void
+  SetLinesPerClaim(SizeValueType lines)
+  {
+    m_LinesPerClaim = std::max(lines, SizeValueType{ 1 });
   }
 
   SizeValueType
@@ -507,7 +530,18 @@ private:
   void
   SumComponents(const Progress &              progress,
                 const SizeValueType           candidateSize[2],
-                const std::function<bool()> & otherWork);
+                const std::function<bool()> & otherWork,
+                std::atomic<uint64_t> &       claims);
+  /** The first stage's help to the second: the lines it takes from the end, a claim at a
+   * time, summed into \a partialSizes (one per component), their candidates (by
+   * these partial sizes) into \a candidates, where each claim's begin in \a claimBegin.
+   * Returns whether it took any. */
+  bool
+  SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
+                          const SizeValueType               candidateSize[2],
+                          std::vector<ComponentIndexType> & partialSizes,
+                          std::vector<LineRun> &            candidates,
+                          std::vector<SizeValueType> &      claimBegin);
 
 
   std::vector<SizeValueType>             m_Size;
@@ -536,6 +570,7 @@ private:
   LineLinking                   m_LineLinking{ LineLinking::Automatic };
   SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
   SizeValueType                 m_MinimumRunsToShareNumbering{ MinimumRunsToShareNumbering };
+  SizeValueType                 m_LinesPerClaim{ LinesPerClaim };
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };
 };
 } // namespace SmallIsoComponentDetail

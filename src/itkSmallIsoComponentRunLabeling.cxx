@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
+#include "itkNumericTraits.h"
 #include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
@@ -704,11 +705,13 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
 }
 
 void
-RunLabeling::LabelComponents(WorkTeam &                    team,
-                             SizeValueType                 aboveCandidateSize,
-                             SizeValueType                 belowCandidateSize,
-                             const std::function<bool()> & otherWork,
-                             bool                          share)
+RunLabeling::LabelComponents(WorkTeam &                        team,
+                             SizeValueType                     aboveCandidateSize,
+                             SizeValueType                     belowCandidateSize,
+                             const std::function<bool()> &     otherWork,
+                             bool                              share,
+                             std::vector<ComponentIndexType> * partialSizes,
+                             std::vector<LineRun> *            partialCandidates)
 {
   const auto doOtherWork = [&otherWork] {
     if (otherWork)
@@ -738,24 +741,53 @@ RunLabeling::LabelComponents(WorkTeam &                    team,
   m_CandidateRuns.clear();
   const SizeValueType candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
   Progress            progress;
+  // The second stage takes every claim unless the first helps it.
+  const SizeValueType        claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
+  std::atomic<uint64_t>      claimed{ uint64_t{ claims } << 32 };
+  std::vector<SizeValueType> claimBegin;
+  bool                       helped = false;
   // The items are handed out in order: whoever takes the second finds the first under way
   // (or done), and the first never waits.
   team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType stage) {
     if (stage == 0)
     {
-      // The shorter stage: the other work after it.
+      // The shorter stage: the other work after it, then the help.
       this->NumberRuns(progress);
       doOtherWork();
+      if (partialSizes != nullptr && partialCandidates != nullptr)
+      {
+        helped = this->SumComponentsFromTheEnd(claimed, candidateSize, *partialSizes, *partialCandidates, claimBegin);
+      }
     }
     else if (stage == 1)
     {
-      this->SumComponents(progress, candidateSize, otherWork);
+      this->SumComponents(progress, candidateSize, otherWork, claimed);
     }
     else
     {
       doOtherWork();
     }
   });
+  if (helped)
+  {
+    // The components first met in the helper's lines have no size yet.
+    const SizeValueType components = m_ComponentAbove.size();
+    m_ComponentSize.resize(components, 0);
+    const ComponentIndexType * const partial = partialSizes->data();
+    SizeValueType * const            sizes = m_ComponentSize.data();
+    for (SizeValueType component = 0; component < components; ++component)
+    {
+      sizes[component] += partial[component];
+    }
+    // The helper's claims, taken from the end, are appended in line order.
+    for (SizeValueType claim = claimBegin.size() - 1; claim > 0; --claim)
+    {
+      m_CandidateRuns.insert(m_CandidateRuns.end(),
+                             partialCandidates->begin() + static_cast<std::ptrdiff_t>(claimBegin[claim - 1]),
+                             partialCandidates->begin() + static_cast<std::ptrdiff_t>(claimBegin[claim]));
+    }
+    partialCandidates->clear();
+  }
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
 }
 
@@ -799,7 +831,8 @@ RunLabeling::NumberRuns(Progress & progress)
 void
 RunLabeling::SumComponents(const Progress &              progress,
                            const SizeValueType           candidateSize[2],
-                           const std::function<bool()> & otherWork)
+                           const std::function<bool()> & otherWork,
+                           std::atomic<uint64_t> &       claims)
 {
   const RunIndexType * const   label = m_RunLabel.data();
   const CoordinateType * const start = m_RunStart.data();
@@ -807,37 +840,117 @@ RunLabeling::SumComponents(const Progress &              progress,
   CandidateBuffer              candidates(m_CandidateRuns);
   SizeValueType *              sizes = m_ComponentSize.data();
   SizeValueType                ready = 0;
-  for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
+  uint64_t                     claimed = claims.load(std::memory_order_relaxed);
+  while (true)
   {
-    if (line >= ready)
+    // The next claim from the front, unless the first stage has taken it from the end. The
+    // claims only share the lines out: the results are joined after the loop.
+    const uint64_t front = claimed & 0xffffffffU;
+    if (front >= (claimed >> 32))
     {
-      // The sizes of the components numbered so far are made room for at once, rather
-      // than one by one behind a branch on every run.
-      while ((ready = progress.Lines.load(std::memory_order_acquire)) <= line)
-      {
-        if (!otherWork || !otherWork())
-        {
-          std::this_thread::yield();
-        }
-      }
-      m_ComponentSize.resize(progress.Components.load(std::memory_order_relaxed), 0);
-      sizes = m_ComponentSize.data();
+      break;
     }
-    const SizeValueType end = m_LineRunBegin[line + 1];
-    bool                above = m_LineFirstAbove[line] != 0;
-    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
+    if (!claims.compare_exchange_weak(claimed, claimed + 1, std::memory_order_relaxed))
     {
-      const SizeValueType component = label[run];
-      const SizeValueType size =
-        sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
-      sizes[component] = size;
-      if (size <= candidateSize[above])
+      continue;
+    }
+    claimed = claimed + 1;
+    const SizeValueType lastLine = std::min(m_NumberOfLines, (front + 1) * m_LinesPerClaim);
+    for (SizeValueType line = front * m_LinesPerClaim; line < lastLine; ++line)
+    {
+      if (line >= ready)
       {
-        candidates.Add(run, line);
+        // The sizes of the components numbered so far are made room for at once, rather
+        // than one by one behind a branch on every run.
+        while ((ready = progress.Lines.load(std::memory_order_acquire)) <= line)
+        {
+          if (!otherWork || !otherWork())
+          {
+            std::this_thread::yield();
+          }
+        }
+        m_ComponentSize.resize(progress.Components.load(std::memory_order_relaxed), 0);
+        sizes = m_ComponentSize.data();
+      }
+      const SizeValueType end = m_LineRunBegin[line + 1];
+      bool                above = m_LineFirstAbove[line] != 0;
+      for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
+      {
+        const SizeValueType component = label[run];
+        const SizeValueType size =
+          sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+        sizes[component] = size;
+        if (size <= candidateSize[above])
+        {
+          candidates.Add(run, line);
+        }
       }
     }
   }
   candidates.Flush();
+}
+
+bool
+RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
+                                     const SizeValueType               candidateSize[2],
+                                     std::vector<ComponentIndexType> & partialSizes,
+                                     std::vector<LineRun> &            candidateRuns,
+                                     std::vector<SizeValueType> &      claimBegin)
+{
+  const RunIndexType * const   label = m_RunLabel.data();
+  const CoordinateType * const start = m_RunStart.data();
+  const SizeValueType          length = m_Size[0];
+  // The partial sizes have 32 bits: the help ends before its lines could hold more voxels.
+  const SizeValueType voxelsPerClaim = m_LinesPerClaim * length;
+  SizeValueType       voxels = 0;
+  uint64_t            claimed = claims.load(std::memory_order_relaxed);
+  bool                first = true;
+  while (voxels + voxelsPerClaim <= NumericTraits<ComponentIndexType>::max())
+  {
+    const uint64_t back = claimed >> 32;
+    if ((claimed & 0xffffffffU) >= back)
+    {
+      break;
+    }
+    if (!claims.compare_exchange_weak(claimed, claimed - (uint64_t{ 1 } << 32), std::memory_order_relaxed))
+    {
+      continue;
+    }
+    claimed = claimed - (uint64_t{ 1 } << 32);
+    if (first)
+    {
+      partialSizes.assign(m_ComponentAbove.size(), 0);
+      candidateRuns.clear();
+      claimBegin.assign(1, 0);
+      first = false;
+    }
+    ComponentIndexType * const sizes = partialSizes.data();
+    CandidateBuffer            candidates(candidateRuns);
+    const SizeValueType        claim = back - 1;
+    const SizeValueType        lastLine = std::min(m_NumberOfLines, (claim + 1) * m_LinesPerClaim);
+    for (SizeValueType line = claim * m_LinesPerClaim; line < lastLine; ++line)
+    {
+      const SizeValueType end = m_LineRunBegin[line + 1];
+      bool                above = m_LineFirstAbove[line] != 0;
+      for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
+      {
+        const SizeValueType component = label[run];
+        const SizeValueType size =
+          sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
+        sizes[component] = static_cast<ComponentIndexType>(size);
+        // A component with at most candidateSize voxels has at most as many here: its
+        // runs are all kept.
+        if (size <= candidateSize[above])
+        {
+          candidates.Add(run, line);
+        }
+      }
+    }
+    candidates.Flush();
+    voxels += voxelsPerClaim;
+    claimBegin.push_back(candidateRuns.size());
+  }
+  return !first;
 }
 
 auto

@@ -84,19 +84,22 @@ ForEachRandomGrid(uint32_t seed, unsigned int volumes, SizeValueType largestExte
 /** Labels \a values (extent \a size, axis 0 fastest) at \a isoValue as the filter does:
  * encode, assemble, link, number (keeping the candidates of at most \a candidateSize
  * voxels), the lines cut into slabs for \a slabUnits work units and the loops run by a
- * team of \a teamUnits work units. */
+ * team of \a teamUnits work units; a shared numbering given the scratch arrays
+ * \a partialSizes and \a partialCandidates if not null. */
 template <typename TPixel>
 void
-Label(SmallIsoComponentDetail::RunLabeling & labeling,
-      const std::vector<TPixel> &            values,
-      const std::vector<SizeValueType> &     size,
-      double                                 isoValue,
-      bool                                   fullyConnected,
-      unsigned int                           slabUnits,
-      SizeValueType                          candidateSize,
-      unsigned int                           teamUnits = 2,
-      bool                                   aboveCandidates = true,
-      bool                                   belowCandidates = true)
+Label(SmallIsoComponentDetail::RunLabeling &                                  labeling,
+      const std::vector<TPixel> &                                             values,
+      const std::vector<SizeValueType> &                                      size,
+      double                                                                  isoValue,
+      bool                                                                    fullyConnected,
+      unsigned int                                                            slabUnits,
+      SizeValueType                                                           candidateSize,
+      unsigned int                                                            teamUnits = 2,
+      bool                                                                    aboveCandidates = true,
+      bool                                                                    belowCandidates = true,
+      std::vector<SmallIsoComponentDetail::RunLabeling::ComponentIndexType> * partialSizes = nullptr,
+      std::vector<SmallIsoComponentDetail::RunLabeling::LineRun> *            partialCandidates = nullptr)
 {
   auto threader = MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(teamUnits);
@@ -105,7 +108,13 @@ Label(SmallIsoComponentDetail::RunLabeling & labeling,
   SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(values.data(), labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents(team, aboveCandidates ? candidateSize : 0, belowCandidates ? candidateSize : 0);
+  labeling.LabelComponents(team,
+                           aboveCandidates ? candidateSize : 0,
+                           belowCandidates ? candidateSize : 0,
+                           {},
+                           true,
+                           partialSizes,
+                           partialCandidates);
 }
 
 /** The component of every voxel, from the runs of a labeling. */
