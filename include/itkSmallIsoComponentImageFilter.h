@@ -25,6 +25,7 @@
 #include "itkSmallIsoComponentPeakMemory.h"
 #include "itkSmallIsoComponentPhaseClock.h"
 #include "itkSmallIsoComponentRunLabeling.h"
+#include <functional>
 #include <memory>
 #include <type_traits>
 #include <vector>
@@ -387,9 +388,14 @@ private:
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
    * computed from the image before the pass, and marks it in the mask when there is one.
    * \a joinFlipped, if given, joins the below components next to the runs in the same
-   * loop. */
+   * loop. \a besideWrites, if given, is called by one work unit while the others write
+   * the values (at once if there are no runs). */
   void
-  RepairRuns(WorkTeam & team, const std::vector<LineRun> & runs, SideEnum side, BelowGrouping * joinFlipped);
+  RepairRuns(WorkTeam &                    team,
+             const std::vector<LineRun> &  runs,
+             SideEnum                      side,
+             BelowGrouping *               joinFlipped,
+             const std::function<void()> & besideWrites = {});
 
   /** Planes per slab for the sweep in slabs, or 0 to label the whole image at once. */
   SizeValueType

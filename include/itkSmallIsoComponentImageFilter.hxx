@@ -493,7 +493,18 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
   }
   m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
   m_PhaseClock.End(PhaseEnum::Deciding);
-  this->RepairRuns(team, working.Runs, SideEnum::Above, this->AbovePassFlips() ? &working.Grouping : nullptr);
+  // The groups are numbered by one work unit while the others write the above pass's
+  // values (the time counted as writes).
+  if (this->AbovePassFlips())
+  {
+    this->RepairRuns(team, working.Runs, SideEnum::Above, &working.Grouping, [&working] {
+      working.Grouping.Finish(working.RemovedAbove, working.Groups);
+    });
+  }
+  else
+  {
+    this->RepairRuns(team, working.Runs, SideEnum::Above, nullptr);
+  }
   m_NumberOfModifiedVoxels += m_AboveStatistics.RemovedVoxels;
   // The flipped runs have been joined.
   working.Runs.clear();
@@ -516,8 +527,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
     m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
     return;
   }
+  // The groups were numbered beside the above pass's writes.
   const BelowGrouping::Groups & groups = working.Groups;
-  working.Grouping.Finish(working.RemovedAbove, working.Groups);
   this->DecideRemovals(
     team,
     groups.GroupSize.size(),
@@ -702,13 +713,18 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(Work
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                   team,
-                                                                    const std::vector<LineRun> & runs,
-                                                                    SideEnum                     side,
-                                                                    BelowGrouping *              joinFlipped)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                    team,
+                                                                    const std::vector<LineRun> &  runs,
+                                                                    SideEnum                      side,
+                                                                    BelowGrouping *               joinFlipped,
+                                                                    const std::function<void()> & besideWrites)
 {
   if (runs.empty())
   {
+    if (besideWrites)
+    {
+      besideWrites();
+    }
     return;
   }
   OutputImageType * output = this->GetOutput();
@@ -734,7 +750,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   m_PhaseClock.End(PhaseEnum::Repair);
   repair.WriteValues(output->GetBufferPointer(),
                      m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr,
-                     side == SideEnum::Above ? 1 : 2);
+                     side == SideEnum::Above ? 1 : 2,
+                     besideWrites);
   m_PhaseClock.End(PhaseEnum::Writes);
 }
 

@@ -22,6 +22,7 @@
 #include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
+#include <functional>
 #include <vector>
 
 namespace itk
@@ -72,9 +73,10 @@ public:
                 BelowGrouping *           joinFlipped);
 
   /** Writes the values into \a output and, unless \a mask is null, \a maskValue into
-   * \a mask for every voxel of the runs. */
+   * \a mask for every voxel of the runs; \a beside (if given) is called once, by one work
+   * unit while the others write. */
   void
-  WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const;
+  WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue, const std::function<void()> & beside = {}) const;
 
   /** Voxels that got the fallback value. */
   SizeValueType
