@@ -197,7 +197,9 @@ public:
    * Given two scratch arrays (\a partialSizes and \a partialCandidates, whose contents
    * are lost and whose memory is kept), the first work unit, once done with its stage and
    * the other work, sums the last lines itself, taking them from the end while the second
-   * takes them from the front, into sizes of its own added to the others at the end. The
+   * takes them from the front, into sizes of its own added to the others at the end, while
+   * their runs fit in the capacity \a partialCandidates has already (so none the first
+   * time a filter's scratch is empty) and their voxels in 32 bits. The
    * sizes and side of every component are then those of the serial numbering, and so are
    * the candidates of the components of at most the candidate size (see
    * CollectCandidateRuns()); which runs of larger components are candidates too depends

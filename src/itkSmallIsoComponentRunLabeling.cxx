@@ -901,8 +901,12 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
   // The partial sizes have 32 bits: the help ends before its lines could hold more voxels.
+  // It ends too before its lines could have more runs than the candidates' scratch has
+  // room for already: the help takes no memory of its own (and none the first time).
   const SizeValueType voxelsPerClaim = m_LinesPerClaim * length;
+  const SizeValueType room = candidateRuns.capacity();
   SizeValueType       voxels = 0;
+  SizeValueType       runs = 0;
   uint64_t            claimed = claims.load(std::memory_order_relaxed);
   bool                first = true;
   while (voxels + voxelsPerClaim <= NumericTraits<ComponentIndexType>::max())
@@ -912,11 +916,20 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     {
       break;
     }
+    const SizeValueType claim = back - 1;
+    const SizeValueType firstLine = claim * m_LinesPerClaim;
+    const SizeValueType lastLine = std::min(m_NumberOfLines, firstLine + m_LinesPerClaim);
+    const SizeValueType claimRuns = m_LineRunBegin[lastLine] - m_LineRunBegin[firstLine];
+    if (runs + claimRuns > room)
+    {
+      break;
+    }
     if (!claims.compare_exchange_weak(claimed, claimed - (uint64_t{ 1 } << 32), std::memory_order_relaxed))
     {
       continue;
     }
     claimed = claimed - (uint64_t{ 1 } << 32);
+    runs += claimRuns;
     if (first)
     {
       partialSizes.assign(m_ComponentAbove.size(), 0);
@@ -926,9 +939,7 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     }
     ComponentIndexType * const sizes = partialSizes.data();
     CandidateBuffer            candidates(candidateRuns);
-    const SizeValueType        claim = back - 1;
-    const SizeValueType        lastLine = std::min(m_NumberOfLines, (claim + 1) * m_LinesPerClaim);
-    for (SizeValueType line = claim * m_LinesPerClaim; line < lastLine; ++line)
+    for (SizeValueType line = firstLine; line < lastLine; ++line)
     {
       const SizeValueType end = m_LineRunBegin[line + 1];
       bool                above = m_LineFirstAbove[line] != 0;

@@ -280,14 +280,20 @@ CheckRandomVolume(RandomSource &                      random,
     const auto serialSmall = serial.CollectCandidateRuns(small);
     for (const unsigned int units : { 2u, 3u })
     {
-      for (const bool help : { false, true })
+      // No help; help with room for every run; help with room for a quarter of the voxels.
+      for (const unsigned int help : { 0u, 1u, 4u })
       {
-        SCOPED_TRACE(testing::Message() << units << " units" << (help ? ", with help" : ""));
+        SCOPED_TRACE(testing::Message() << units << " units, help " << help);
         RunLabeling shared;
         shared.SetMinimumRunsToShareNumbering(0);
         shared.SetLinesPerClaim(1);
         std::vector<RunLabeling::ComponentIndexType> partialSizes;
         std::vector<RunLabeling::LineRun>            partialCandidates;
+        if (help > 0)
+        {
+          partialCandidates.reserve(grid.NumberOfVoxels() / help);
+        }
+        const SizeValueType room = partialCandidates.capacity();
         Label(shared,
               values,
               ExtentOf(grid),
@@ -298,11 +304,12 @@ CheckRandomVolume(RandomSource &                      random,
               units,
               true,
               true,
-              help ? &partialSizes : nullptr,
-              help ? &partialCandidates : nullptr);
-        // The helper sized its partial sums if it took any lines.
+              help > 0 ? &partialSizes : nullptr,
+              help > 0 ? &partialCandidates : nullptr);
+        // The helper sized its partial sums if it took any lines, and took no memory.
         SharedNumberingHelped() += partialSizes.empty() ? 0 : 1;
         EXPECT_TRUE(partialCandidates.empty());
+        EXPECT_EQ(partialCandidates.capacity(), room);
         const RunLabeling::RunTable sharedRuns = shared.GetRunTable();
         for (SizeValueType run = 0; run < lastRun; ++run)
         {
@@ -323,7 +330,7 @@ CheckRandomVolume(RandomSource &                      random,
           ASSERT_EQ(sharedSmall[i].Run, serialSmall[i].Run);
           ASSERT_EQ(sharedSmall[i].Line, serialSmall[i].Line);
         }
-        if (!help)
+        if (help == 0)
         {
           ASSERT_EQ(sharedCandidates.size(), serialCandidates.size());
           for (SizeValueType i = 0; i < serialCandidates.size(); ++i)
