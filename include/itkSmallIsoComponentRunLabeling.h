@@ -201,9 +201,8 @@ public:
    * their runs fit in the capacity \a partialCandidates has already (so none the first
    * time a filter's scratch is empty) and their voxels in 32 bits. The
    * sizes and side of every component are then those of the serial numbering, and so are
-   * the candidates of the components of at most the candidate size (see
-   * CollectCandidateRuns()); which runs of larger components are candidates too depends
-   * on how the lines were shared. */
+   * the candidates (see CollectCandidateRuns()) except in the lines the first work unit
+   * summed: there only the runs of components of at most the candidate size are kept. */
   void
   LabelComponents(WorkTeam &                        team,
                   SizeValueType                     aboveCandidateSize,

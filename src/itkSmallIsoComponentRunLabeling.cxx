@@ -612,6 +612,24 @@ RunLabeling::LinkRuns()
 
 namespace
 {
+/** Resizes \a sizes to \a count entries (new ones 0), its capacity doubled as often as
+ * needed: the capacity is then that which adding the entries one by one gives, whatever
+ * steps it was resized in (the shared numbering's depend on timing). */
+void
+GrowSizes(std::vector<SizeValueType> & sizes, SizeValueType count)
+{
+  if (count > sizes.capacity())
+  {
+    SizeValueType capacity = std::max<SizeValueType>(sizes.capacity(), 1);
+    while (capacity < count)
+    {
+      capacity *= 2;
+    }
+    sizes.reserve(capacity);
+  }
+  sizes.resize(count, 0);
+}
+
 /** Candidate runs gathered in a small buffer, appended to \a runs when it is full and at the
  * end: a run is one store, and the vector is reached once per BufferSize runs. */
 class CandidateBuffer
@@ -772,20 +790,32 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
   {
     // The components first met in the helper's lines have no size yet.
     const SizeValueType components = m_ComponentAbove.size();
-    m_ComponentSize.resize(components, 0);
+    GrowSizes(m_ComponentSize, components);
     const ComponentIndexType * const partial = partialSizes->data();
     SizeValueType * const            sizes = m_ComponentSize.data();
     for (SizeValueType component = 0; component < components; ++component)
     {
       sizes[component] += partial[component];
     }
-    // The helper's claims, taken from the end, are appended in line order.
+    // The helper's claims, taken from the end, are appended in line order, and only the
+    // runs of components of at most the candidate size: its partial sizes kept others too,
+    // and the candidates are never more than the serial numbering's (the arrays sized by
+    // them keep the size of the first update).
+    const RunIndexType * const label = m_RunLabel.data();
+    CandidateBuffer            candidates(m_CandidateRuns);
     for (SizeValueType claim = claimBegin.size() - 1; claim > 0; --claim)
     {
-      m_CandidateRuns.insert(m_CandidateRuns.end(),
-                             partialCandidates->begin() + static_cast<std::ptrdiff_t>(claimBegin[claim - 1]),
-                             partialCandidates->begin() + static_cast<std::ptrdiff_t>(claimBegin[claim]));
+      for (SizeValueType i = claimBegin[claim - 1]; i < claimBegin[claim]; ++i)
+      {
+        const LineRun      candidate = (*partialCandidates)[i];
+        const RunIndexType component = label[candidate.Run];
+        if (sizes[component] <= candidateSize[m_ComponentAbove[component]])
+        {
+          candidates.Add(candidate.Run, candidate.Line);
+        }
+      }
     }
+    candidates.Flush();
     partialCandidates->clear();
   }
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
@@ -869,7 +899,7 @@ RunLabeling::SumComponents(const Progress &              progress,
             std::this_thread::yield();
           }
         }
-        m_ComponentSize.resize(progress.Components.load(std::memory_order_relaxed), 0);
+        GrowSizes(m_ComponentSize, progress.Components.load(std::memory_order_relaxed));
         sizes = m_ComponentSize.data();
       }
       const SizeValueType end = m_LineRunBegin[line + 1];
@@ -901,12 +931,12 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
   const CoordinateType * const start = m_RunStart.data();
   const SizeValueType          length = m_Size[0];
   // The partial sizes have 32 bits: the help ends before its lines could hold more voxels.
-  // It ends too before its lines could have more runs than the candidates' scratch has
-  // room for already: the help takes no memory of its own (and none the first time).
+  // It ends too before the candidates could fill the capacity the scratch has already
+  // (every run of a claim could be one): the help takes no memory of its own (and none
+  // the first time).
   const SizeValueType voxelsPerClaim = m_LinesPerClaim * length;
   const SizeValueType room = candidateRuns.capacity();
   SizeValueType       voxels = 0;
-  SizeValueType       runs = 0;
   uint64_t            claimed = claims.load(std::memory_order_relaxed);
   bool                first = true;
   while (voxels + voxelsPerClaim <= NumericTraits<ComponentIndexType>::max())
@@ -920,7 +950,7 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     const SizeValueType firstLine = claim * m_LinesPerClaim;
     const SizeValueType lastLine = std::min(m_NumberOfLines, firstLine + m_LinesPerClaim);
     const SizeValueType claimRuns = m_LineRunBegin[lastLine] - m_LineRunBegin[firstLine];
-    if (runs + claimRuns > room)
+    if (candidateRuns.size() + claimRuns > room)
     {
       break;
     }
@@ -929,7 +959,6 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
       continue;
     }
     claimed = claimed - (uint64_t{ 1 } << 32);
-    runs += claimRuns;
     if (first)
     {
       partialSizes.assign(m_ComponentAbove.size(), 0);
