@@ -51,12 +51,14 @@ public:
    * write the output's copy of a large input).
    * Numbering: the components numbered and their sizes summed (at several work units and
    * 2^20 runs or more, two of them as a pipeline, the output's copy written in the moments
-   * it leaves; else one work unit, the others writing the copy beside it; at one work unit,
-   * with the copy after it).
+   * it leaves, and with Side Both the first stage summing the last lines once done; else
+   * one work unit, the others writing the copy beside it; at one work unit, with the copy
+   * after it).
    * Deciding: which components each pass removes, their runs gathered, and the below side's
    * components grouped through the flipped ones.
    * Repair: the repaired value of every removed voxel computed.
-   * Writes: the repaired values (and the mask) written. */
+   * Writes: the repaired values (and the mask) written; with Side Both, the groups of the
+   * below pass numbered beside the above pass's writes. */
   enum class Phase : uint8_t
   {
     Encoding = 0,
