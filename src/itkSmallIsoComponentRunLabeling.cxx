@@ -660,6 +660,31 @@ private:
   RunLabeling::LineRun                m_Buffer[BufferSize];
   SizeValueType                       m_Count{ 0 };
 };
+
+/** Adds the runs of \a line to the sizes of their components (numbered already), and keeps
+ * as candidates those whose component has at most candidateSize[its side] voxels so far. */
+template <typename TSize>
+SMALLISO_ALWAYS_INLINE void
+SumLine(const RunLabeling::RunTable & table,
+        SizeValueType                 line,
+        TSize *                       sizes,
+        const SizeValueType           candidateSize[2],
+        CandidateBuffer &             candidates)
+{
+  const SizeValueType end = table.LineBegin[line + 1];
+  bool                above = table.LineFirstAbove[line] != 0;
+  for (SizeValueType run = table.LineBegin[line]; run < end; ++run, above = !above)
+  {
+    const SizeValueType component = table.Component[run];
+    const SizeValueType size =
+      sizes[component] + (run + 1 < end ? SizeValueType{ table.Start[run + 1] } : table.LineLength) - table.Start[run];
+    sizes[component] = static_cast<TSize>(size);
+    if (size <= candidateSize[above])
+    {
+      candidates.Add(run, line);
+    }
+  }
+}
 } // namespace
 
 void
@@ -864,13 +889,11 @@ RunLabeling::SumComponents(const Progress &              progress,
                            const std::function<bool()> & otherWork,
                            std::atomic<uint64_t> &       claims)
 {
-  const RunIndexType * const   label = m_RunLabel.data();
-  const CoordinateType * const start = m_RunStart.data();
-  const SizeValueType          length = m_Size[0];
-  CandidateBuffer              candidates(m_CandidateRuns);
-  SizeValueType *              sizes = m_ComponentSize.data();
-  SizeValueType                ready = 0;
-  uint64_t                     claimed = claims.load(std::memory_order_relaxed);
+  const RunTable  table = this->GetRunTable();
+  CandidateBuffer candidates(m_CandidateRuns);
+  SizeValueType * sizes = m_ComponentSize.data();
+  SizeValueType   ready = 0;
+  uint64_t        claimed = claims.load(std::memory_order_relaxed);
   while (true)
   {
     // The next claim from the front, unless the first stage has taken it from the end. The
@@ -902,19 +925,7 @@ RunLabeling::SumComponents(const Progress &              progress,
         GrowSizes(m_ComponentSize, progress.Components.load(std::memory_order_relaxed));
         sizes = m_ComponentSize.data();
       }
-      const SizeValueType end = m_LineRunBegin[line + 1];
-      bool                above = m_LineFirstAbove[line] != 0;
-      for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
-      {
-        const SizeValueType component = label[run];
-        const SizeValueType size =
-          sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
-        sizes[component] = size;
-        if (size <= candidateSize[above])
-        {
-          candidates.Add(run, line);
-        }
-      }
+      SumLine(table, line, sizes, candidateSize, candidates);
     }
   }
   candidates.Flush();
@@ -927,9 +938,8 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
                                      std::vector<LineRun> &            candidateRuns,
                                      std::vector<SizeValueType> &      claimBegin)
 {
-  const RunIndexType * const   label = m_RunLabel.data();
-  const CoordinateType * const start = m_RunStart.data();
-  const SizeValueType          length = m_Size[0];
+  const RunTable      table = this->GetRunTable();
+  const SizeValueType length = m_Size[0];
   // The partial sizes have 32 bits: the help ends before its lines could hold more voxels.
   // It ends too before the candidates could fill the capacity the scratch has already
   // (every run of a claim could be one): the help takes no memory of its own (and none
@@ -970,21 +980,9 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     CandidateBuffer            candidates(candidateRuns);
     for (SizeValueType line = firstLine; line < lastLine; ++line)
     {
-      const SizeValueType end = m_LineRunBegin[line + 1];
-      bool                above = m_LineFirstAbove[line] != 0;
-      for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
-      {
-        const SizeValueType component = label[run];
-        const SizeValueType size =
-          sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
-        sizes[component] = static_cast<ComponentIndexType>(size);
-        // A component with at most candidateSize voxels has at most as many here: its
-        // runs are all kept.
-        if (size <= candidateSize[above])
-        {
-          candidates.Add(run, line);
-        }
-      }
+      // A component with at most candidateSize voxels has at most as many here: its runs
+      // are all kept.
+      SumLine(table, line, sizes, candidateSize, candidates);
     }
     candidates.Flush();
     voxels += voxelsPerClaim;
