@@ -566,12 +566,14 @@ private:
   SizeValueType m_BitsWords{ 0 };
   SizeValueType m_BitsSlots{ 0 };
   /** The boundary bits of every line, when kept (dense images), instead of rings. */
-  bool                          m_KeepLineBits{ false };
-  LargeArray<uint64_t>          m_KeptLineBits;
-  LineLinking                   m_LineLinking{ LineLinking::Automatic };
-  SizeValueType                 m_BitsCacheBytes{ BitsCacheBytes };
-  SizeValueType                 m_MinimumRunsToShareNumbering{ MinimumRunsToShareNumbering };
-  SizeValueType                 m_LinesPerClaim{ LinesPerClaim };
+  bool                 m_KeepLineBits{ false };
+  LargeArray<uint64_t> m_KeptLineBits;
+  LineLinking          m_LineLinking{ LineLinking::Automatic };
+  SizeValueType        m_BitsCacheBytes{ BitsCacheBytes };
+  SizeValueType        m_MinimumRunsToShareNumbering{ MinimumRunsToShareNumbering };
+  SizeValueType        m_LinesPerClaim{ LinesPerClaim };
+  /** Where each claim the first stage took begins in its candidates (kept between updates). */
+  std::vector<SizeValueType>    m_ClaimBegin;
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };
 };
 } // namespace SmallIsoComponentDetail

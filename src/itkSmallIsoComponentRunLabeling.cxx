@@ -91,9 +91,11 @@ RunLabeling::ReleaseMemory()
   const LineLinking   linking = m_LineLinking;
   const SizeValueType bitsCacheBytes = m_BitsCacheBytes;
   const SizeValueType minimumRunsToShareNumbering = m_MinimumRunsToShareNumbering;
+  const SizeValueType linesPerClaim = m_LinesPerClaim;
   *this = RunLabeling();
   this->SetLineLinking(linking, bitsCacheBytes);
   this->SetMinimumRunsToShareNumbering(minimumRunsToShareNumbering);
+  this->SetLinesPerClaim(linesPerClaim);
 }
 
 void
@@ -785,10 +787,10 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
   const SizeValueType candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
   Progress            progress;
   // The second stage takes every claim unless the first helps it.
-  const SizeValueType        claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
-  std::atomic<uint64_t>      claimed{ uint64_t{ claims } << 32 };
-  std::vector<SizeValueType> claimBegin;
-  bool                       helped = false;
+  const SizeValueType          claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
+  std::atomic<uint64_t>        claimed{ uint64_t{ claims } << 32 };
+  std::vector<SizeValueType> & claimBegin = m_ClaimBegin;
+  bool                         helped = false;
   // The items are handed out in order: whoever takes the second finds the first under way
   // (or done), and the first never waits.
   team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType stage) {
@@ -1076,7 +1078,7 @@ RunLabeling::GetMemoryInBytes() const
          m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
          m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
          m_CandidateRuns.capacity() * sizeof(LineRun) + m_KeptLineBits.capacity() * sizeof(uint64_t) +
-         this->GetLineBitsBytes();
+         m_ClaimBegin.capacity() * sizeof(SizeValueType) + this->GetLineBitsBytes();
 }
 
 SizeValueType
