@@ -18,6 +18,7 @@
 #ifndef itkSmallIsoComponentRunEncoder_h
 #define itkSmallIsoComponentRunEncoder_h
 
+#include "itkSmallIsoComponentBitPositions.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentSideBits.h"
 #include "itkSmallIsoComponentThreshold.h"
@@ -35,7 +36,9 @@ namespace SmallIsoComponentDetail
  * A line is described by the start of each of its runs and the side of its first run.
  * For 8- and 16-bit integers and float, where SSE2 is available, 16 voxels are classified
  * per compare (SideBits) and a run starts where a voxel's bit differs from the one before;
- * the other types search for the next change of side (NextSideChange()).
+ * the other types search for the next change of side (NextSideChange()). On dense lines
+ * (those whose boundary bits the labeling keeps) the starts of each 64 voxels are written
+ * by AVX-512 compresses where the processor has them, chosen at run time.
  *
  * \ingroup SmallIsoComponent
  */
@@ -145,13 +148,33 @@ public:
   /** Voxel bytes per block handed to prepareLines() in Encode(). */
   static constexpr SizeValueType BlockBytes = 32768;
 
-private:
   /** Writes the starts of the runs of the \a length voxels at \a values at \a starts, and
    * the line's boundary bits (a bit per voxel where a run starts, 64 voxels a word) at
-   * \a bits: on the SIMD path from the same words of changes of side. */
+   * \a bits: on the SIMD path from the same words of changes of side, each word's starts
+   * written by WriteBitPositionsCompressed() where GetCompressedPositions(). Encode() encodes
+   * so the lines whose bits the labeling keeps (dense lines). */
   void
   EncodeLineAndBits(const TPixel * values, SizeValueType length, CoordinateType * starts, uint64_t * bits) const;
 
+  /** Whether EncodeLineAndBits() writes starts by vector compresses: by default where the
+   * processor can (HasCompressedPositions()). Setting it on elsewhere leaves it off; off is
+   * there to compare the two ways (the output is the same). */
+  void
+  SetCompressedPositions(bool compressed)
+  {
+#if defined(SMALLISO_COMPRESS_DISPATCH)
+    m_CompressedPositions = compressed && HasCompressedPositions();
+#else
+    (void)compressed;
+#endif
+  }
+  bool
+  GetCompressedPositions() const
+  {
+    return m_CompressedPositions;
+  }
+
+private:
 #if defined(__SSE2__)
   /** The SIMD path: calls addChanges(change, base) with the bits of the voxels base to
    * base + 63 at which a run starts (voxel 0 excluded; all the calls in order) and returns
@@ -162,6 +185,11 @@ private:
 #endif
 
   Threshold<TPixel> m_Threshold;
+#if defined(SMALLISO_COMPRESS_DISPATCH)
+  bool m_CompressedPositions{ HasCompressedPositions() };
+#else
+  bool m_CompressedPositions{ false };
+#endif
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -80,6 +80,7 @@ RunEncoder<TPixel>::EncodeLineAndBits(const TPixel *   values,
                                       CoordinateType * starts,
                                       uint64_t *       bits) const
 {
+  static_assert(std::is_same<CoordinateType, uint32_t>::value, "WriteBitPositions() writes 32-bit starts.");
   std::fill(bits, bits + (length + 63) / 64, uint64_t{ 0 });
   // Voxel 0 starts the first run.
   bits[0] = 1;
@@ -97,10 +98,14 @@ RunEncoder<TPixel>::EncodeLineAndBits(const TPixel *   values,
       {
         bits[word + 1] |= change >> (64 - shift);
       }
-      for (; change != 0; change &= change - 1)
+#  if defined(SMALLISO_COMPRESS_DISPATCH)
+      if (m_CompressedPositions)
       {
-        *starts++ = static_cast<CoordinateType>(base + static_cast<SizeValueType>(__builtin_ctzll(change)));
+        starts = WriteBitPositionsCompressed(starts, change, static_cast<CoordinateType>(base));
+        return;
       }
+#  endif
+      starts = WriteBitPositions(starts, change, static_cast<CoordinateType>(base));
     });
     return;
   }

@@ -17,7 +17,8 @@
  *=========================================================================*/
 
 // The encoding of scanlines as runs: for every pixel type with SIMD compares, the SIMD
-// path against the search path and against a voxel-by-voxel encoding, on lines of every
+// path (with its starts written one bit a step and, where the processor has AVX-512, by
+// vector compresses) against the search path and against a voxel-by-voxel encoding, on lines of every
 // length up to past two 64-voxel words, with a change of side at every position, NaN, and
 // thresholds at the limits of the type; the other types against the voxel-by-voxel
 // encoding.
@@ -89,6 +90,31 @@ EncodingDifference(const std::vector<T> & line, double isoValue)
     {
       out << (bySearch ? "search" : "EncodeLine") << " path: " << starts.size() << " runs, first above " << firstAbove
           << "; expected " << expected.size() << " runs, first above " << expectedFirstAbove << "; iso " << isoValue
+          << "; line" << LineToString(line) << "\n";
+    }
+  }
+  // The lines whose boundary bits are kept: each way of writing the starts, into an array
+  // sized as the encoder sizes it (its runs counted), between guard words.
+  std::vector<uint64_t> expectedBits((line.size() + 63) / 64, 0);
+  for (const CoordinateType start : expected)
+  {
+    expectedBits[start / 64] |= uint64_t{ 1 } << (start % 64);
+  }
+  for (const bool compressed : { false, true })
+  {
+    RunEncoder<T> wordEncoder(isoValue);
+    wordEncoder.SetCompressedPositions(compressed);
+    constexpr CoordinateType    guard = 0xDEADBEEF;
+    std::vector<CoordinateType> starts(expected.size() + 2, guard);
+    std::vector<uint64_t>       bits(expectedBits.size() + 2, ~uint64_t{ 0 });
+    wordEncoder.EncodeLineAndBits(line.data(), line.size(), starts.data() + 1, bits.data() + 1);
+    const std::vector<CoordinateType> written(starts.begin() + 1, starts.end() - 1);
+    const std::vector<uint64_t>       writtenBits(bits.begin() + 1, bits.end() - 1);
+    if (written != expected || writtenBits != expectedBits || starts.front() != guard || starts.back() != guard ||
+        bits.front() != ~uint64_t{ 0 } || bits.back() != ~uint64_t{ 0 })
+    {
+      out << "EncodeLineAndBits (" << (wordEncoder.GetCompressedPositions() ? "compressed" : "one bit a step")
+          << "): starts or bits differ from the definition, or were written past their ends; iso " << isoValue
           << "; line" << LineToString(line) << "\n";
     }
   }
@@ -226,6 +252,20 @@ TEST(SmallIsoComponentRunEncoder, OtherTypesEncodeEveryLineAsTheDefinitionDoes)
   CheckEncodings<int32_t>(21);
   CheckEncodings<uint32_t>(22);
   CheckEncodings<double>(23);
+}
+
+TEST(SmallIsoComponentRunEncoder, StartsAreWrittenByCompressesWhereTheProcessorCan)
+{
+  // Where it cannot, the comparisons above compared the one way with itself: say so.
+  RunEncoder<uint8_t> encoder(127.5);
+  if (!encoder.GetCompressedPositions())
+  {
+    GTEST_SKIP() << "this processor has no AVX-512: the starts are written one bit a step only";
+  }
+  encoder.SetCompressedPositions(false);
+  EXPECT_FALSE(encoder.GetCompressedPositions());
+  encoder.SetCompressedPositions(true);
+  EXPECT_TRUE(encoder.GetCompressedPositions());
 }
 
 TEST(SmallIsoComponentRunEncoder, NothingAboveIsOneBelowRunPerLine)
