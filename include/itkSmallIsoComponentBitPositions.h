@@ -21,11 +21,10 @@
 #include "itkSmallIsoComponentBitCount.h"
 #include <cstdint>
 
-/* Where the compiler takes target attributes and the processor may have AVX-512, the
- * positions of a word's set bits can be written by a vector compress, chosen at run time
- * with HasCompressedPositions(). */
+/* Where the compiler takes target attributes and the processor may have AVX-512, loops
+ * are compiled a second time for AVX-512, chosen at run time with HasAvx512(). */
 #if defined(__GNUC__) && defined(__x86_64__)
-#  define SMALLISO_COMPRESS_DISPATCH
+#  define SMALLISO_AVX512_DISPATCH
 #  include <immintrin.h>
 #endif
 
@@ -45,20 +44,20 @@ WriteBitPositions(uint32_t * out, uint64_t bits, uint32_t base)
   return out;
 }
 
-#if defined(SMALLISO_COMPRESS_DISPATCH)
-/** Whether the processor has AVX-512 and the system keeps its registers (Intel since 2017,
- * AMD since 2022). */
+#if defined(SMALLISO_AVX512_DISPATCH)
+/** Whether the processor has AVX-512's foundation and its byte and word instructions,
+ * and the system keeps its registers (Intel processors since 2017, AMD since 2022). */
 inline bool
-HasCompressedPositions()
+HasAvx512()
 {
-  static const bool has = __builtin_cpu_supports("avx512f") != 0;
+  static const bool has = __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512bw") != 0;
   return has;
 }
 
 /** WriteBitPositions() by four compresses of sixteen positions each, without a branch per
  * bit: the loop's exit after a varying number of bits mispredicts about once per word, and
  * dense lines have 30 bits a word. Nothing is written past the returned end (masked
- * stores). Call only where HasCompressedPositions(). */
+ * stores). Call only where HasAvx512(). */
 __attribute__((target("avx512f,popcnt,bmi2"))) inline uint32_t *
 WriteBitPositionsCompressed(uint32_t * out, uint64_t bits, uint32_t base)
 {

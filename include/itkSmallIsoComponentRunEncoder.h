@@ -36,9 +36,10 @@ namespace SmallIsoComponentDetail
  * A line is described by the start of each of its runs and the side of its first run.
  * For 8- and 16-bit integers and float, where SSE2 is available, 16 voxels are classified
  * per compare (SideBits) and a run starts where a voxel's bit differs from the one before;
- * the other types search for the next change of side (NextSideChange()). On dense lines
- * (those whose boundary bits the labeling keeps) the starts of each 64 voxels are written
- * by AVX-512 compresses where the processor has them, chosen at run time.
+ * the other types search for the next change of side (NextSideChange()). Where the
+ * processor has AVX-512 (chosen at run time), those types are classified 64 bytes a
+ * compare instead, and on dense lines (those whose boundary bits the labeling keeps) the
+ * starts of each 64 voxels are written by compresses.
  *
  * \ingroup SmallIsoComponent
  */
@@ -151,27 +152,28 @@ public:
   /** Writes the starts of the runs of the \a length voxels at \a values at \a starts, and
    * the line's boundary bits (a bit per voxel where a run starts, 64 voxels a word) at
    * \a bits: on the SIMD path from the same words of changes of side, each word's starts
-   * written by WriteBitPositionsCompressed() where GetCompressedPositions(). Encode() encodes
+   * written by WriteBitPositionsCompressed() where GetAvx512(). Encode() encodes
    * so the lines whose bits the labeling keeps (dense lines). */
   void
   EncodeLineAndBits(const TPixel * values, SizeValueType length, CoordinateType * starts, uint64_t * bits) const;
 
-  /** Whether EncodeLineAndBits() writes starts by vector compresses: by default where the
-   * processor can (HasCompressedPositions()). Setting it on elsewhere leaves it off; off is
-   * there to compare the two ways (the output is the same). */
+  /** Whether the encoder uses AVX-512: by default where the processor has it (HasAvx512()),
+   * for the classification of the voxels (64 bytes a compare) and for the starts of dense
+   * lines. Setting it on elsewhere leaves it off; off is there to compare the two ways (the
+   * output is the same). */
   void
-  SetCompressedPositions(bool compressed)
+  SetAvx512(bool on)
   {
-#if defined(SMALLISO_COMPRESS_DISPATCH)
-    m_CompressedPositions = compressed && HasCompressedPositions();
+#if defined(SMALLISO_AVX512_DISPATCH)
+    m_Avx512 = on && HasAvx512();
 #else
-    (void)compressed;
+    (void)on;
 #endif
   }
   bool
-  GetCompressedPositions() const
+  GetAvx512() const
   {
-    return m_CompressedPositions;
+    return m_Avx512;
   }
 
 private:
@@ -182,13 +184,24 @@ private:
   template <typename TChanges>
   bool
   ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const;
+  /** The same with SSE2: 16 voxels a compare. */
+  template <typename TChanges>
+  bool
+  ForEachSideChangeSse2(const TPixel * values, SizeValueType length, TChanges && addChanges) const;
+#endif
+#if defined(SMALLISO_AVX512_DISPATCH)
+  /** The same with AVX-512: 64 bytes a compare, the last voxels of the line by a masked
+   * load. Only where HasAvx512(). */
+  template <typename TChanges>
+  bool
+  ForEachSideChangeAvx512(const TPixel * values, SizeValueType length, TChanges && addChanges) const;
 #endif
 
   Threshold<TPixel> m_Threshold;
-#if defined(SMALLISO_COMPRESS_DISPATCH)
-  bool m_CompressedPositions{ HasCompressedPositions() };
+#if defined(SMALLISO_AVX512_DISPATCH)
+  bool m_Avx512{ HasAvx512() };
 #else
-  bool m_CompressedPositions{ false };
+  bool m_Avx512{ false };
 #endif
 };
 } // namespace SmallIsoComponentDetail

@@ -98,8 +98,8 @@ RunEncoder<TPixel>::EncodeLineAndBits(const TPixel *   values,
       {
         bits[word + 1] |= change >> (64 - shift);
       }
-#  if defined(SMALLISO_COMPRESS_DISPATCH)
-      if (m_CompressedPositions)
+#  if defined(SMALLISO_AVX512_DISPATCH)
+      if (m_Avx512)
       {
         starts = WriteBitPositionsCompressed(starts, change, static_cast<CoordinateType>(base));
         return;
@@ -121,6 +121,97 @@ template <typename TPixel>
 template <typename TChanges>
 bool
 RunEncoder<TPixel>::ForEachSideChange(const TPixel * values, SizeValueType length, TChanges && addChanges) const
+{
+#  if defined(SMALLISO_AVX512_DISPATCH)
+  if (m_Avx512)
+  {
+    return this->ForEachSideChangeAvx512(values, length, addChanges);
+  }
+#  endif
+  return this->ForEachSideChangeSse2(values, length, addChanges);
+}
+
+#  if defined(SMALLISO_AVX512_DISPATCH)
+template <typename TPixel>
+template <typename TChanges>
+__attribute__((target("avx512f,avx512bw,popcnt,bmi2"))) bool
+RunEncoder<TPixel>::ForEachSideChangeAvx512(const TPixel * values, SizeValueType length, TChanges && addChanges) const
+{
+  const bool firstAbove = m_Threshold.IsAbove(values[0]);
+  if (!m_Threshold.AnyAbove())
+  {
+    return firstAbove;
+  }
+  // One bit per voxel, set above the isovalue (v >= the lowest value above it; never for
+  // NaN), 64 voxels a word from up to 64 loaded lanes.
+  const TPixel lowest = m_Threshold.LowestAbove();
+  const auto   above = [lowest](const TPixel * voxels, __mmask64 loaded) __attribute__((target("avx512f,avx512bw")))
+                     SMALLISO_LAMBDA_ALWAYS_INLINE->uint64_t
+  {
+    if constexpr (std::is_same<TPixel, uint8_t>::value || std::is_same<TPixel, int8_t>::value)
+    {
+      const __m512i v = _mm512_maskz_loadu_epi8(loaded, voxels);
+      const __m512i t = _mm512_set1_epi8(static_cast<char>(lowest));
+      return std::is_same<TPixel, uint8_t>::value ? _mm512_mask_cmpge_epu8_mask(loaded, v, t)
+                                                  : _mm512_mask_cmpge_epi8_mask(loaded, v, t);
+    }
+    else if constexpr (sizeof(TPixel) == 2)
+    {
+      const __m512i t = _mm512_set1_epi16(static_cast<short>(lowest));
+      uint64_t      bits = 0;
+      for (unsigned int half = 0; half < 2; ++half)
+      {
+        const auto     lanes = static_cast<__mmask32>(loaded >> (32 * half));
+        const __m512i  v = _mm512_maskz_loadu_epi16(lanes, voxels + 32 * half);
+        const uint64_t marked = std::is_same<TPixel, uint16_t>::value ? _mm512_mask_cmpge_epu16_mask(lanes, v, t)
+                                                                      : _mm512_mask_cmpge_epi16_mask(lanes, v, t);
+        bits |= marked << (32 * half);
+      }
+      return bits;
+    }
+    else
+    {
+      const __m512 t = _mm512_set1_ps(lowest);
+      uint64_t     bits = 0;
+      for (unsigned int quarter = 0; quarter < 4; ++quarter)
+      {
+        const auto   lanes = static_cast<__mmask16>(loaded >> (16 * quarter));
+        const __m512 v = _mm512_maskz_loadu_ps(lanes, voxels + 16 * quarter);
+        bits |= static_cast<uint64_t>(_mm512_mask_cmp_ps_mask(lanes, v, t, _CMP_GE_OQ)) << (16 * quarter);
+      }
+      return bits;
+    }
+  };
+  uint64_t      previous = firstAbove ? 1 : 0; // the bit of the voxel before x
+  SizeValueType x = 0;
+  for (; x + 64 <= length; x += 64)
+  {
+    const uint64_t bits = above(values + x, ~__mmask64{ 0 });
+    const uint64_t change = bits ^ (bits << 1 | previous);
+    previous = bits >> 63;
+    if (change != 0)
+    {
+      addChanges(change, x);
+    }
+  }
+  if (x < length)
+  {
+    const uint64_t loaded = _bzhi_u64(~uint64_t{ 0 }, static_cast<unsigned int>(length - x));
+    const uint64_t bits = above(values + x, loaded);
+    const uint64_t change = (bits ^ (bits << 1 | previous)) & loaded;
+    if (change != 0)
+    {
+      addChanges(change, x);
+    }
+  }
+  return firstAbove;
+}
+#  endif
+
+template <typename TPixel>
+template <typename TChanges>
+bool
+RunEncoder<TPixel>::ForEachSideChangeSse2(const TPixel * values, SizeValueType length, TChanges && addChanges) const
 {
   {
     const bool firstAbove = m_Threshold.IsAbove(values[0]);

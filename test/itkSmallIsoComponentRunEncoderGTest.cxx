@@ -17,9 +17,8 @@
  *=========================================================================*/
 
 // The encoding of scanlines as runs: for every pixel type with SIMD compares, the SIMD
-// path (with its starts written one bit a step and, where the processor has AVX-512, by
-// vector compresses) against the search path and against a voxel-by-voxel encoding, on lines of every
-// length up to past two 64-voxel words, with a change of side at every position, NaN, and
+// path (with SSE2 and, where the processor has it, with AVX-512) against the search path and against a voxel-by-voxel
+// encoding, on lines of every length up to past two 64-voxel words, with a change of side at every position, NaN, and
 // thresholds at the limits of the type; the other types against the voxel-by-voxel
 // encoding.
 
@@ -68,60 +67,59 @@ LineToString(const std::vector<T> & line)
   return out.str();
 }
 
-/** Empty when both paths of the encoder encode \a line as the definition does, and
- * CountRuns() counts its runs. The run
- * starts are appended after what \a starts holds already, as the encoder appends a slab's
- * lines one after another. */
+/** Empty when every path of the encoder encodes \a line as the definition does, with
+ * AVX-512 and without (where the processor has it), and CountRuns() counts its runs: EncodeLine()
+ * and the search, appending after what \a starts holds already (as the encoder appends a slab's
+ * lines one after another), and EncodeLineAndBits() (the path of dense lines) into an array
+ * sized as the encoder sizes it (its runs counted), between guard words. */
 template <typename T>
 std::string
 EncodingDifference(const std::vector<T> & line, double isoValue)
 {
   bool                              expectedFirstAbove = false;
   const std::vector<CoordinateType> expected = NaiveStarts(line, isoValue, expectedFirstAbove);
-  const RunEncoder<T>               encoder(isoValue);
-  std::ostringstream                out;
-  for (const bool bySearch : { false, true })
-  {
-    std::vector<CoordinateType> starts{ 7, 7 };
-    const bool                  firstAbove = bySearch ? encoder.EncodeLineBySearch(line.data(), line.size(), starts)
-                                                      : encoder.EncodeLine(line.data(), line.size(), starts);
-    starts.erase(starts.begin(), starts.begin() + 2);
-    if (starts != expected || firstAbove != expectedFirstAbove)
-    {
-      out << (bySearch ? "search" : "EncodeLine") << " path: " << starts.size() << " runs, first above " << firstAbove
-          << "; expected " << expected.size() << " runs, first above " << expectedFirstAbove << "; iso " << isoValue
-          << "; line" << LineToString(line) << "\n";
-    }
-  }
-  // The lines whose boundary bits are kept: each way of writing the starts, into an array
-  // sized as the encoder sizes it (its runs counted), between guard words.
-  std::vector<uint64_t> expectedBits((line.size() + 63) / 64, 0);
+  std::vector<uint64_t>             expectedBits((line.size() + 63) / 64, 0);
   for (const CoordinateType start : expected)
   {
     expectedBits[start / 64] |= uint64_t{ 1 } << (start % 64);
   }
-  for (const bool compressed : { false, true })
+  std::ostringstream out;
+  for (const bool avx512 : { false, true })
   {
-    RunEncoder<T> wordEncoder(isoValue);
-    wordEncoder.SetCompressedPositions(compressed);
+    RunEncoder<T> encoder(isoValue);
+    encoder.SetAvx512(avx512);
+    const std::string way = encoder.GetAvx512() ? " (AVX-512)" : "";
+    for (const bool bySearch : { false, true })
+    {
+      std::vector<CoordinateType> starts{ 7, 7 };
+      const bool                  firstAbove = bySearch ? encoder.EncodeLineBySearch(line.data(), line.size(), starts)
+                                                        : encoder.EncodeLine(line.data(), line.size(), starts);
+      starts.erase(starts.begin(), starts.begin() + 2);
+      if (starts != expected || firstAbove != expectedFirstAbove)
+      {
+        out << (bySearch ? "search" : "EncodeLine") << " path" << way << ": " << starts.size() << " runs, first above "
+            << firstAbove << "; expected " << expected.size() << " runs, first above " << expectedFirstAbove << "; iso "
+            << isoValue << "; line" << LineToString(line) << "\n";
+      }
+    }
     constexpr CoordinateType    guard = 0xDEADBEEF;
     std::vector<CoordinateType> starts(expected.size() + 2, guard);
     std::vector<uint64_t>       bits(expectedBits.size() + 2, ~uint64_t{ 0 });
-    wordEncoder.EncodeLineAndBits(line.data(), line.size(), starts.data() + 1, bits.data() + 1);
+    encoder.EncodeLineAndBits(line.data(), line.size(), starts.data() + 1, bits.data() + 1);
     const std::vector<CoordinateType> written(starts.begin() + 1, starts.end() - 1);
     const std::vector<uint64_t>       writtenBits(bits.begin() + 1, bits.end() - 1);
     if (written != expected || writtenBits != expectedBits || starts.front() != guard || starts.back() != guard ||
         bits.front() != ~uint64_t{ 0 } || bits.back() != ~uint64_t{ 0 })
     {
-      out << "EncodeLineAndBits (" << (wordEncoder.GetCompressedPositions() ? "compressed" : "one bit a step")
-          << "): starts or bits differ from the definition, or were written past their ends; iso " << isoValue
+      out << "EncodeLineAndBits" << way
+          << ": starts or bits differ from the definition, or were written past their ends; iso " << isoValue
           << "; line" << LineToString(line) << "\n";
     }
-  }
-  if (encoder.CountRuns(line.data(), line.size()) != expected.size())
-  {
-    out << "CountRuns: " << encoder.CountRuns(line.data(), line.size()) << " runs; expected " << expected.size()
-        << "; iso " << isoValue << "; line" << LineToString(line) << "\n";
+    if (encoder.CountRuns(line.data(), line.size()) != expected.size())
+    {
+      out << "CountRuns" << way << ": " << encoder.CountRuns(line.data(), line.size()) << " runs; expected "
+          << expected.size() << "; iso " << isoValue << "; line" << LineToString(line) << "\n";
+    }
   }
   return out.str();
 }
@@ -254,18 +252,18 @@ TEST(SmallIsoComponentRunEncoder, OtherTypesEncodeEveryLineAsTheDefinitionDoes)
   CheckEncodings<double>(23);
 }
 
-TEST(SmallIsoComponentRunEncoder, StartsAreWrittenByCompressesWhereTheProcessorCan)
+TEST(SmallIsoComponentRunEncoder, Avx512IsUsedWhereTheProcessorHasIt)
 {
-  // Where it cannot, the comparisons above compared the one way with itself: say so.
+  // Where it has not, the comparisons above compared the SSE2 path with itself: say so.
   RunEncoder<uint8_t> encoder(127.5);
-  if (!encoder.GetCompressedPositions())
+  if (!encoder.GetAvx512())
   {
-    GTEST_SKIP() << "this processor has no AVX-512: the starts are written one bit a step only";
+    GTEST_SKIP() << "this processor has no AVX-512: only the SSE2 path was compared";
   }
-  encoder.SetCompressedPositions(false);
-  EXPECT_FALSE(encoder.GetCompressedPositions());
-  encoder.SetCompressedPositions(true);
-  EXPECT_TRUE(encoder.GetCompressedPositions());
+  encoder.SetAvx512(false);
+  EXPECT_FALSE(encoder.GetAvx512());
+  encoder.SetAvx512(true);
+  EXPECT_TRUE(encoder.GetAvx512());
 }
 
 TEST(SmallIsoComponentRunEncoder, NothingAboveIsOneBelowRunPerLine)
