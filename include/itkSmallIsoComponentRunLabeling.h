@@ -535,14 +535,13 @@ private:
                 std::atomic<uint64_t> &       claims);
   /** The first stage's help to the second: the lines it takes from the end, a claim at a
    * time, summed into \a partialSizes (one per component), their candidates (by
-   * these partial sizes) into \a candidates, where each claim's begin in \a claimBegin.
+   * these partial sizes) into \a candidates, where each claim's begin in m_ClaimBegin.
    * Returns whether it took any. */
   bool
   SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
                           const SizeValueType               candidateSize[2],
                           std::vector<ComponentIndexType> & partialSizes,
-                          std::vector<LineRun> &            candidates,
-                          std::vector<SizeValueType> &      claimBegin);
+                          std::vector<LineRun> &            candidates);
 
 
   std::vector<SizeValueType>             m_Size;

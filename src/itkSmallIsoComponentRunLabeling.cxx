@@ -787,10 +787,9 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
   const SizeValueType candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
   Progress            progress;
   // The second stage takes every claim unless the first helps it.
-  const SizeValueType          claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
-  std::atomic<uint64_t>        claimed{ uint64_t{ claims } << 32 };
-  std::vector<SizeValueType> & claimBegin = m_ClaimBegin;
-  bool                         helped = false;
+  const SizeValueType   claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
+  std::atomic<uint64_t> claimed{ uint64_t{ claims } << 32 };
+  bool                  helped = false;
   // The items are handed out in order: whoever takes the second finds the first under way
   // (or done), and the first never waits.
   team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType stage) {
@@ -801,7 +800,7 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
       doOtherWork();
       if (partialSizes != nullptr && partialCandidates != nullptr)
       {
-        helped = this->SumComponentsFromTheEnd(claimed, candidateSize, *partialSizes, *partialCandidates, claimBegin);
+        helped = this->SumComponentsFromTheEnd(claimed, candidateSize, *partialSizes, *partialCandidates);
       }
     }
     else if (stage == 1)
@@ -830,9 +829,9 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
     // them keep the size of the first update).
     const RunIndexType * const label = m_RunLabel.data();
     CandidateBuffer            candidates(m_CandidateRuns);
-    for (SizeValueType claim = claimBegin.size() - 1; claim > 0; --claim)
+    for (SizeValueType claim = m_ClaimBegin.size() - 1; claim > 0; --claim)
     {
-      for (SizeValueType i = claimBegin[claim - 1]; i < claimBegin[claim]; ++i)
+      for (SizeValueType i = m_ClaimBegin[claim - 1]; i < m_ClaimBegin[claim]; ++i)
       {
         const LineRun      candidate = (*partialCandidates)[i];
         const RunIndexType component = label[candidate.Run];
@@ -937,8 +936,7 @@ bool
 RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
                                      const SizeValueType               candidateSize[2],
                                      std::vector<ComponentIndexType> & partialSizes,
-                                     std::vector<LineRun> &            candidateRuns,
-                                     std::vector<SizeValueType> &      claimBegin)
+                                     std::vector<LineRun> &            candidateRuns)
 {
   const RunTable      table = this->GetRunTable();
   const SizeValueType length = m_Size[0];
@@ -975,7 +973,7 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     {
       partialSizes.assign(m_ComponentAbove.size(), 0);
       candidateRuns.clear();
-      claimBegin.assign(1, 0);
+      m_ClaimBegin.assign(1, 0);
       first = false;
     }
     ComponentIndexType * const sizes = partialSizes.data();
@@ -988,7 +986,7 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
     }
     candidates.Flush();
     voxels += voxelsPerClaim;
-    claimBegin.push_back(candidateRuns.size());
+    m_ClaimBegin.push_back(candidateRuns.size());
   }
   return !first;
 }
