@@ -742,6 +742,22 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   }
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
     team, m_Working->Labeling, runs, output->GetBufferedRegion().GetSize(), m_Working->Values);
+  uint8_t * const mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  const uint8_t   maskValue = side == SideEnum::Above ? 1 : 2;
+  if (valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr && !besideWrites)
+  {
+    // The walks read the input, not the output: each value is written as it is found.
+    repair.ComputeAndWriteValues(valuesBeforePass,
+                                 SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
+                                 side == SideEnum::Above,
+                                 output->GetBufferPointer(),
+                                 mask,
+                                 maskValue);
+    m_ExtraMemory.Hold(m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
+    m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
+    m_PhaseClock.End(PhaseEnum::Repair);
+    return;
+  }
   repair.ComputeValues(valuesBeforePass,
                        SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
                        side == SideEnum::Above,
@@ -749,10 +765,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   m_ExtraMemory.Hold(m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
   m_PhaseClock.End(PhaseEnum::Repair);
-  repair.WriteValues(output->GetBufferPointer(),
-                     m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr,
-                     side == SideEnum::Above ? 1 : 2,
-                     besideWrites);
+  repair.WriteValues(output->GetBufferPointer(), mask, maskValue, besideWrites);
   m_PhaseClock.End(PhaseEnum::Writes);
 }
 

@@ -72,6 +72,17 @@ public:
                 bool                      removedAreAbove,
                 BelowGrouping *           joinFlipped);
 
+  /** ComputeValues() and WriteValues() in one pass, each value written as it is found:
+   * only where \a valuesBeforePass is not \a output's buffer (the walks read values before
+   * the pass) and no grouping joins the runs. */
+  void
+  ComputeAndWriteValues(const TPixel *            valuesBeforePass,
+                        const Threshold<TPixel> & threshold,
+                        bool                      removedAreAbove,
+                        TPixel *                  output,
+                        uint8_t *                 mask,
+                        uint8_t                   maskValue);
+
   /** Writes the values into \a output and, unless \a mask is null, \a maskValue into
    * \a mask for every voxel of the runs; \a beside (if given) is called once, by one work
    * unit while the others write. */
@@ -90,6 +101,16 @@ public:
   GetValueBytes(const std::vector<std::vector<TPixel>> & values);
 
 private:
+  /** ComputeValues() or, with \a output, ComputeAndWriteValues(). */
+  void
+  Repair(const TPixel *            valuesBeforePass,
+         const Threshold<TPixel> & threshold,
+         bool                      removedAreAbove,
+         BelowGrouping *           joinFlipped,
+         TPixel *                  output,
+         uint8_t *                 mask,
+         uint8_t                   maskValue);
+
   SizeValueType
   ChunkBegin(SizeValueType chunk) const
   {

@@ -108,6 +108,31 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
                                              bool                      removedAreAbove,
                                              BelowGrouping *           joinFlipped)
 {
+  this->Repair(valuesBeforePass, threshold, removedAreAbove, joinFlipped, nullptr, nullptr, 0);
+}
+
+template <typename TPixel, unsigned int VDimension>
+void
+RunRepair<TPixel, VDimension>::ComputeAndWriteValues(const TPixel *            valuesBeforePass,
+                                                     const Threshold<TPixel> & threshold,
+                                                     bool                      removedAreAbove,
+                                                     TPixel *                  output,
+                                                     uint8_t *                 mask,
+                                                     uint8_t                   maskValue)
+{
+  this->Repair(valuesBeforePass, threshold, removedAreAbove, nullptr, output, mask, maskValue);
+}
+
+template <typename TPixel, unsigned int VDimension>
+void
+RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass,
+                                      const Threshold<TPixel> & threshold,
+                                      bool                      removedAreAbove,
+                                      BelowGrouping *           joinFlipped,
+                                      TPixel *                  output,
+                                      uint8_t *                 mask,
+                                      uint8_t                   maskValue)
+{
   const TPixel        fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
   const auto          sameSide = [&](TPixel v) { return threshold.IsAbove(v) == removedAreAbove; };
   const SizeValueType length = m_Size[0];
@@ -120,6 +145,14 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
   const auto prefetchNeighbors = [&](const LineRun & ahead) {
     const SizeValueType first = this->FirstVoxel(ahead);
     Prefetch(valuesBeforePass + first);
+    if (output != nullptr)
+    {
+      Prefetch(output + first);
+      if (mask != nullptr)
+      {
+        Prefetch(mask + first);
+      }
+    }
     for (unsigned int a = 1; a < VDimension; ++a)
     {
       const auto step = static_cast<SizeValueType>(m_Stride[a]);
@@ -142,7 +175,10 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
     std::vector<TPixel> chunkValues = std::move(m_Values[chunk]);
     SizeValueType       unrepairable = 0;
     chunkValues.clear();
-    chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
+    if (output == nullptr)
+    {
+      chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
+    }
     this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
       // The run's coordinates along axes 1..N-1.
       SizeValueType coordinates[VDimension];
@@ -153,6 +189,7 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
         rest /= m_Size[a];
       }
       const TPixel * line = valuesBeforePass + removed.Line * length;
+      TPixel * const outputLine = output != nullptr ? output + removed.Line * length : nullptr;
       RepairLineRun<TPixel>(
         m_Table.Start[removed.Run],
         m_Table.End(removed.Run, removed.Line),
@@ -176,15 +213,21 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
               mean);
           }
         },
-        [&](SizeValueType, const RepairMean & mean) {
-          if (mean.GetCount() > 0)
+        [&](SizeValueType x, const RepairMean & mean) {
+          const bool   repaired = mean.GetCount() > 0;
+          const TPixel value = repaired ? mean.Get<TPixel>() : fallback;
+          unrepairable += repaired ? 0 : 1;
+          if (outputLine != nullptr)
           {
-            chunkValues.push_back(mean.Get<TPixel>());
+            outputLine[x] = value;
+            if (mask != nullptr)
+            {
+              mask[removed.Line * length + x] = maskValue;
+            }
           }
           else
           {
-            chunkValues.push_back(fallback);
-            ++unrepairable;
+            chunkValues.push_back(value);
           }
         });
     });
