@@ -98,7 +98,7 @@ namespace itk
  * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
  * while the passes are decided, 8 bytes per candidate run (every run of a component of
  * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel
- * (none with Side Above when not in place: each value is then written as it is found);
+ * (none with Side Above or Below when not in place: each value is then written as it is found);
  * with more than one work unit, one byte per candidate run while the removed runs are
  * collected; where lines have three runs or more per 64 voxels on average, the lines'
  * boundary bits too (1/8 byte per voxel). GetPeakExtraMemoryInBytes() reports the peak of

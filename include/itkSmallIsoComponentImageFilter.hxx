@@ -729,13 +729,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
     return;
   }
   OutputImageType * output = this->GetOutput();
-  // The values before the pass are the output's. Before the above pass writes, an input
-  // of the same type holds them too, and is likely still in the caches, unlike a streamed
-  // output.
+  // The values before the pass are the output's. In the first pass (the above pass, or
+  // the below pass of Side Below), an input of the same type holds them too, and is likely
+  // still in the caches, unlike a streamed output.
   const OutputPixelType * valuesBeforePass = output->GetBufferPointer();
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
-    if (side == SideEnum::Above)
+    if (side == SideEnum::Above || m_Side == SideEnum::Below)
     {
       valuesBeforePass = this->GetInput()->GetBufferPointer();
     }
