@@ -263,6 +263,14 @@ public:
     RunIndexType Run;
     RunIndexType Line;
   };
+  /** A candidate run and its component: the collection reads which components are selected
+   * without reading the components array (a candidate every few runs would read nearly
+   * every cache line of it), and finds the lines by a cursor over the lines' first runs. */
+  struct CandidateRun
+  {
+    RunIndexType       Run;
+    ComponentIndexType Component;
+  };
 
   /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
    * flagged in \a selected, in run order: every run of the selected components if they
@@ -281,6 +289,14 @@ public:
   /** The serial one into \a runs. */
   void
   CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const;
+  /** The line of \a run (a binary search over the lines' first runs). */
+  SizeValueType
+  LineOfRun(SizeValueType run) const
+  {
+    return static_cast<SizeValueType>(std::upper_bound(m_LineRunBegin.begin(), m_LineRunBegin.end(), run) -
+                                      m_LineRunBegin.begin()) -
+           1;
+  }
 
   /** The runs, read-only, as arrays, for the loops over many runs: valid from
    * AssembleRuns() until the next Initialize(). */
@@ -559,7 +575,7 @@ private:
   LargeArray<RunIndexType>   m_RunLabel;
   std::vector<SizeValueType> m_ComponentSize;
   std::vector<uint8_t>       m_ComponentAbove;
-  std::vector<LineRun>       m_CandidateRuns;
+  std::vector<CandidateRun>  m_CandidateRuns;
   SizeValueType              m_PeakMemoryInBytes{ 0 };
   /** Words of boundary bits per line, and slots of a ring. */
   SizeValueType m_BitsWords{ 0 };

@@ -26,6 +26,7 @@
 #include <memory>
 #include <numeric>
 #include <thread>
+#include <type_traits>
 
 
 namespace itk
@@ -633,17 +634,29 @@ GrowSizes(std::vector<SizeValueType> & sizes, SizeValueType count)
 }
 
 /** Candidate runs gathered in a small buffer, appended to \a runs when it is full and at the
- * end: a run is one store, and the vector is reached once per BufferSize runs. */
+ * end: a run is one store, and the vector is reached once per BufferSize runs. TEntry is
+ * RunLabeling::CandidateRun (a run and its component) or RunLabeling::LineRun (a run and its
+ * line). */
+template <typename TEntry>
 class CandidateBuffer
 {
 public:
-  explicit CandidateBuffer(std::vector<RunLabeling::LineRun> & runs)
+  explicit CandidateBuffer(std::vector<TEntry> & runs)
     : m_Runs(runs)
   {}
   void
-  Add(SizeValueType run, SizeValueType line)
+  Add(SizeValueType run, SizeValueType line, SizeValueType component)
   {
-    m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run), static_cast<RunLabeling::RunIndexType>(line) };
+    if constexpr (std::is_same<TEntry, RunLabeling::LineRun>::value)
+    {
+      m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run),
+                              static_cast<RunLabeling::RunIndexType>(line) };
+    }
+    else
+    {
+      m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run),
+                              static_cast<RunLabeling::ComponentIndexType>(component) };
+    }
     if (m_Count == BufferSize)
     {
       this->Flush();
@@ -657,21 +670,21 @@ public:
   }
 
 private:
-  static constexpr SizeValueType      BufferSize = 256;
-  std::vector<RunLabeling::LineRun> & m_Runs;
-  RunLabeling::LineRun                m_Buffer[BufferSize];
-  SizeValueType                       m_Count{ 0 };
+  static constexpr SizeValueType BufferSize = 256;
+  std::vector<TEntry> &          m_Runs;
+  TEntry                         m_Buffer[BufferSize];
+  SizeValueType                  m_Count{ 0 };
 };
 
 /** Adds the runs of \a line to the sizes of their components (numbered already), and keeps
  * as candidates those whose component has at most candidateSize[its side] voxels so far. */
-template <typename TSize>
+template <typename TSize, typename TEntry>
 SMALLISO_ALWAYS_INLINE void
 SumLine(const RunLabeling::RunTable & table,
         SizeValueType                 line,
         TSize *                       sizes,
         const SizeValueType           candidateSize[2],
-        CandidateBuffer &             candidates)
+        CandidateBuffer<TEntry> &     candidates)
 {
   const SizeValueType end = table.LineBegin[line + 1];
   bool                above = table.LineFirstAbove[line] != 0;
@@ -683,7 +696,7 @@ SumLine(const RunLabeling::RunTable & table,
     sizes[component] = static_cast<TSize>(size);
     if (size <= candidateSize[above])
     {
-      candidates.Add(run, line);
+      candidates.Add(run, line, component);
     }
   }
 }
@@ -702,11 +715,11 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
   m_ComponentSize.clear();
   m_ComponentAbove.clear();
   m_CandidateRuns.clear();
-  RunIndexType * const         label = m_RunLabel.data();
-  const CoordinateType * const start = m_RunStart.data();
-  const SizeValueType          length = m_Size[0];
-  CandidateBuffer              candidates(m_CandidateRuns);
-  const SizeValueType          candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
+  RunIndexType * const          label = m_RunLabel.data();
+  const CoordinateType * const  start = m_RunStart.data();
+  const SizeValueType           length = m_Size[0];
+  CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
+  const SizeValueType           candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
   // The sizes are reached through a local pointer, renewed when a component is added, so
   // that the loop does not read the vector's again for every run.
   SizeValueType * sizes = m_ComponentSize.data();
@@ -742,7 +755,7 @@ RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType bel
       // candidates).
       if (size <= candidateSize[above])
       {
-        candidates.Add(run, line);
+        candidates.Add(run, line, component);
       }
     }
   }
@@ -827,8 +840,8 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
     // runs of components of at most the candidate size: its partial sizes kept others too,
     // and the candidates are never more than the serial numbering's (the arrays sized by
     // them keep the size of the first update).
-    const RunIndexType * const label = m_RunLabel.data();
-    CandidateBuffer            candidates(m_CandidateRuns);
+    const RunIndexType * const    label = m_RunLabel.data();
+    CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
     for (SizeValueType claim = m_ClaimBegin.size() - 1; claim > 0; --claim)
     {
       for (SizeValueType i = m_ClaimBegin[claim - 1]; i < m_ClaimBegin[claim]; ++i)
@@ -837,7 +850,7 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
         const RunIndexType component = label[candidate.Run];
         if (sizes[component] <= candidateSize[m_ComponentAbove[component]])
         {
-          candidates.Add(candidate.Run, candidate.Line);
+          candidates.Add(candidate.Run, candidate.Line, component);
         }
       }
     }
@@ -890,11 +903,11 @@ RunLabeling::SumComponents(const Progress &              progress,
                            const std::function<bool()> & otherWork,
                            std::atomic<uint64_t> &       claims)
 {
-  const RunTable  table = this->GetRunTable();
-  CandidateBuffer candidates(m_CandidateRuns);
-  SizeValueType * sizes = m_ComponentSize.data();
-  SizeValueType   ready = 0;
-  uint64_t        claimed = claims.load(std::memory_order_relaxed);
+  const RunTable                table = this->GetRunTable();
+  CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
+  SizeValueType *               sizes = m_ComponentSize.data();
+  SizeValueType                 ready = 0;
+  uint64_t                      claimed = claims.load(std::memory_order_relaxed);
   while (true)
   {
     // The next claim from the front, unless the first stage has taken it from the end. The
@@ -977,7 +990,7 @@ RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
       first = false;
     }
     ComponentIndexType * const sizes = partialSizes.data();
-    CandidateBuffer            candidates(candidateRuns);
+    CandidateBuffer<LineRun>   candidates(candidateRuns);
     for (SizeValueType line = firstLine; line < lastLine; ++line)
     {
       // A component with at most candidateSize voxels has at most as many here: its runs
@@ -1002,22 +1015,26 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -
 void
 RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const
 {
-  // The candidates are far apart in the run arrays: their components are requested a
-  // few candidates ahead.
   runs.clear();
-  const RunIndexType * const label = m_RunLabel.data();
   const SizeValueType        candidates = m_CandidateRuns.size();
-  const LineRun * const      candidate = m_CandidateRuns.data();
-  constexpr SizeValueType    Ahead = 2 * PrefetchRunsAhead;
+  const CandidateRun * const candidate = m_CandidateRuns.data();
+  if (candidates == 0)
+  {
+    return;
+  }
+  // The candidates are in run order: the line of each selected one is found by moving a
+  // cursor forward from the first candidate's.
+  const SizeValueType * const lineBegin = m_LineRunBegin.data();
+  SizeValueType               line = this->LineOfRun(candidate[0].Run);
   for (SizeValueType i = 0; i < candidates; ++i)
   {
-    if (i + Ahead < candidates)
+    if (selected[candidate[i].Component])
     {
-      Prefetch(label + candidate[i + Ahead].Run);
-    }
-    if (selected[label[candidate[i].Run]])
-    {
-      runs.push_back(candidate[i]);
+      while (lineBegin[line + 1] <= candidate[i].Run)
+      {
+        ++line;
+      }
+      runs.push_back({ candidate[i].Run, static_cast<RunIndexType>(line) });
     }
   }
 }
@@ -1035,9 +1052,7 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
     this->CollectCandidateRuns(selected, runs);
     return;
   }
-  const RunIndexType * const label = m_RunLabel.data();
-  const LineRun * const      candidate = m_CandidateRuns.data();
-  constexpr SizeValueType    Ahead = 2 * PrefetchRunsAhead;
+  const CandidateRun * const candidate = m_CandidateRuns.data();
   marked.resize(candidates);
   std::vector<SizeValueType> partBegin(parts + 1, 0);
   team.ForEach(parts, [&](SizeValueType part) {
@@ -1045,25 +1060,32 @@ RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
     SizeValueType       count = 0;
     for (SizeValueType i = WorkTeam::PartBegin(candidates, part, parts); i < end; ++i)
     {
-      if (i + Ahead < end)
-      {
-        Prefetch(label + candidate[i + Ahead].Run);
-      }
-      marked[i] = selected[label[candidate[i].Run]];
+      marked[i] = selected[candidate[i].Component];
       count += marked[i];
     }
     partBegin[part + 1] = count;
   });
   std::partial_sum(partBegin.begin(), partBegin.end(), partBegin.begin());
   runs.resize(partBegin[parts]);
+  const SizeValueType * const lineBegin = m_LineRunBegin.data();
   team.ForEach(parts, [&](SizeValueType part) {
+    const SizeValueType begin = WorkTeam::PartBegin(candidates, part, parts);
     const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
-    LineRun *           out = runs.data() + partBegin[part];
-    for (SizeValueType i = WorkTeam::PartBegin(candidates, part, parts); i < end; ++i)
+    if (begin == end)
+    {
+      return;
+    }
+    LineRun *     out = runs.data() + partBegin[part];
+    SizeValueType line = this->LineOfRun(candidate[begin].Run);
+    for (SizeValueType i = begin; i < end; ++i)
     {
       if (marked[i])
       {
-        *out++ = candidate[i];
+        while (lineBegin[line + 1] <= candidate[i].Run)
+        {
+          ++line;
+        }
+        *out++ = { candidate[i].Run, static_cast<RunIndexType>(line) };
       }
     }
   });
@@ -1075,7 +1097,7 @@ RunLabeling::GetMemoryInBytes() const
   return m_RunStart.capacity() * sizeof(CoordinateType) + m_RunLabel.capacity() * sizeof(RunIndexType) +
          m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
          m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
-         m_CandidateRuns.capacity() * sizeof(LineRun) + m_KeptLineBits.capacity() * sizeof(uint64_t) +
+         m_CandidateRuns.capacity() * sizeof(CandidateRun) + m_KeptLineBits.capacity() * sizeof(uint64_t) +
          m_ClaimBegin.capacity() * sizeof(SizeValueType) + this->GetLineBitsBytes();
 }
 
