@@ -744,29 +744,26 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
     team, m_Working->Labeling, runs, output->GetBufferedRegion().GetSize(), m_Working->Values);
   uint8_t * const mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
   const uint8_t   maskValue = side == SideEnum::Above ? 1 : 2;
-  if (valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr && !besideWrites)
+  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
+  // Where the walks read the input, not the output, each value is written as it is found.
+  const bool writeAsFound = valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr && !besideWrites;
+  if (writeAsFound)
   {
-    // The walks read the input, not the output: each value is written as it is found.
-    repair.ComputeAndWriteValues(valuesBeforePass,
-                                 SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
-                                 side == SideEnum::Above,
-                                 output->GetBufferPointer(),
-                                 mask,
-                                 maskValue);
-    m_ExtraMemory.Hold(m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
-    m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
-    m_PhaseClock.End(PhaseEnum::Repair);
-    return;
+    repair.ComputeAndWriteValues(
+      valuesBeforePass, threshold, side == SideEnum::Above, output->GetBufferPointer(), mask, maskValue);
   }
-  repair.ComputeValues(valuesBeforePass,
-                       SmallIsoComponentDetail::Threshold<OutputPixelType>(m_IsoValue),
-                       side == SideEnum::Above,
-                       joinFlipped);
+  else
+  {
+    repair.ComputeValues(valuesBeforePass, threshold, side == SideEnum::Above, joinFlipped);
+  }
   m_ExtraMemory.Hold(m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes());
   m_NumberOfUnrepairableVoxels += repair.GetNumberOfUnrepairableVoxels();
   m_PhaseClock.End(PhaseEnum::Repair);
-  repair.WriteValues(output->GetBufferPointer(), mask, maskValue, besideWrites);
-  m_PhaseClock.End(PhaseEnum::Writes);
+  if (!writeAsFound)
+  {
+    repair.WriteValues(output->GetBufferPointer(), mask, maskValue, besideWrites);
+    m_PhaseClock.End(PhaseEnum::Writes);
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -188,8 +188,9 @@ RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass
         coordinates[a] = rest % m_Size[a];
         rest /= m_Size[a];
       }
-      const TPixel * line = valuesBeforePass + removed.Line * length;
-      TPixel * const outputLine = output != nullptr ? output + removed.Line * length : nullptr;
+      const TPixel *  line = valuesBeforePass + removed.Line * length;
+      TPixel * const  outputLine = output != nullptr ? output + removed.Line * length : nullptr;
+      uint8_t * const maskLine = mask != nullptr ? mask + removed.Line * length : nullptr;
       RepairLineRun<TPixel>(
         m_Table.Start[removed.Run],
         m_Table.End(removed.Run, removed.Line),
@@ -220,9 +221,9 @@ RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass
           if (outputLine != nullptr)
           {
             outputLine[x] = value;
-            if (mask != nullptr)
+            if (maskLine != nullptr)
             {
-              mask[removed.Line * length + x] = maskValue;
+              maskLine[x] = maskValue;
             }
           }
           else
