@@ -3,6 +3,7 @@ TypeError or ValueError that says what was wrong and what was expected."""
 
 import math
 import operator
+import sys
 
 import numpy as np
 
@@ -101,6 +102,10 @@ def check_spacing(spacing, ndim):
     if len(values) != ndim or not all(math.isfinite(value) and value > 0.0 for value in values):
         raise ValueError(
             f"spacing is {spacing!r}; expected {ndim} positive finite numbers, one per axis in the array's axis order")
+    # The image's index-to-physical matrix (the spacing's diagonal) must be invertible in double precision.
+    if not sys.float_info.min <= math.prod(values) < math.inf:
+        raise ValueError(f"spacing is {spacing!r}, whose voxel volume {math.prod(values)!r} is not a normal "
+                         "double-precision number; expected spacings whose product lies between 2.2e-308 and 1.8e308")
     return values
 
 

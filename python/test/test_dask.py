@@ -188,12 +188,23 @@ def test_each_chunk_is_filtered_once_when_the_parts_are_computed_together(monkey
     (dict(array=da.zeros((4, 0), dtype=np.uint8, chunks=2)), ValueError, "empty"),
     (dict(spacing=(1.0,)), ValueError, "spacing"),
     (dict(threads=0), ValueError, "threads is 0"),
+    (dict(spacing=(1e-300, 1e-300), max_volume=1.0), ValueError, "voxel volume 0.0 is not a normal"),
+    (dict(chunks=0), ValueError, "chunks is 0.*expected positive chunk edges"),
+    (dict(chunks=(2, 0)), ValueError, r"chunks is \(2, 0\).*expected positive chunk edges"),
+    (dict(chunks=-1.5), ValueError, "chunks is -1.5"),
 ])
 def test_bad_arguments_give_clear_errors(arguments, error, message):
     call = dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2), isovalue=1.0)
     call.update(arguments)
     with pytest.raises(error, match=message):
         smalliso.dask.remove_small_components(**call)
+
+
+@pytest.mark.parametrize("chunks", [0, (2, 0), ((2, 1), (5,))])
+def test_bad_chunks_of_a_stored_array_give_clear_errors(tmp_path, chunks):
+    stored = zarr.open_array(str(tmp_path / "in.zarr"), mode="w", shape=(4, 5), chunks=(2, 2), dtype=np.uint8)
+    with pytest.raises(ValueError, match="chunks is .*expected"):
+        smalliso.dask.remove_small_components(stored, 1.0, chunks=chunks)
 
 
 def test_unknown_chunk_sizes_are_refused():

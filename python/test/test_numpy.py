@@ -198,6 +198,8 @@ def test_output_does_not_depend_on_the_threads():
     (dict(spacing=(1.0, 0.0)), ValueError, "spacing.*expected 2 positive finite numbers"),
     (dict(spacing=(1.0, 1.0, 1.0)), ValueError, "spacing.*expected 2 positive"),
     (dict(spacing="ab"), ValueError, "spacing must be a sequence"),
+    (dict(spacing=(1e-300, 1e-300), max_volume=1.0), ValueError, "voxel volume 0.0 is not a normal"),
+    (dict(spacing=(1e200, 1e200)), ValueError, "voxel volume inf is not a normal"),
     (dict(max_volume=-2.0), ValueError, "max_volume is -2.0; it must be a volume >= 0"),
     (dict(threads=0), ValueError, "threads is 0"),
     (dict(in_place=True, out=np.zeros((4, 5), np.uint8)), ValueError, "give out or in_place"),

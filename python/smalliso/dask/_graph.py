@@ -162,10 +162,10 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     max_volume = _arguments.check_max_volume(max_volume)
     work_units = _arguments.check_threads(threads)
     if _is_stored(array):
-        source = _StoredInput(array, chunks)
+        source = _StoredInput(array, _task_chunks(chunks, array))
     else:
         array = da.asarray(array)
-        source = _DaskInput(array if chunks is None else array.rechunk(chunks))
+        source = _DaskInput(array if chunks is None else array.rechunk(_task_chunks(chunks, array)))
     dtype = _arguments.check_dtype(source.dtype)
     shape = _arguments.check_shape(source.shape)
     ndim = len(shape)
@@ -210,6 +210,22 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     if return_stats:
         result += (_Statistics(names["statistics"], graph, layer=names["statistics"]),)
     return result[0] if len(result) == 1 else result
+
+
+def _task_chunks(chunks, array):
+    """``chunks`` (any form ``dask.array`` takes, None for the array's own) normalized for the
+    array, or a ValueError if they do not describe chunks of at least one voxel."""
+    if chunks is None:
+        chunks = array.chunks
+    try:
+        normalized = normalize_chunks(chunks, array.shape, dtype=array.dtype)
+    except (ValueError, TypeError, ZeroDivisionError) as error:
+        raise ValueError(f"chunks is {chunks!r}, which does not describe chunks of the array of shape "
+                         f"{tuple(array.shape)} ({error}); expected positive chunk edges") from None
+    if 0 not in array.shape and any(not extent >= 1 for extents in normalized for extent in extents):
+        raise ValueError(f"chunks is {chunks!r}; expected chunk edges of at least one voxel, one per axis of the "
+                         f"array of shape {tuple(array.shape)}")
+    return normalized
 
 
 def _starts(chunks):
@@ -282,7 +298,7 @@ class _StoredInput:
         self.name = "smalliso-source-" + tokenize(array)
         self.dtype = array.dtype
         self.shape = array.shape
-        self.chunks = normalize_chunks(array.chunks if chunks is None else chunks, array.shape, dtype=array.dtype)
+        self.chunks = chunks
         self.starts = _starts(self.chunks)
         self.layers = {self.name: {self.name: array}}
         self.dependencies = {self.name: set()}
