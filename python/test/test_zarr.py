@@ -2,11 +2,15 @@
 results and JSON statistics against the in-memory function and the command-line tool, a failure
 that leaves nothing behind, errors)."""
 
+import itertools
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 
+import dask
 import numpy as np
 import pytest
 import zarr
@@ -129,3 +133,151 @@ def test_the_command_gives_one_line_errors(tmp_path, monkeypatch, capsys, argume
     assert status == 2
     assert stderr.count("\n") == 1 and message in stderr, stderr
     assert not (tmp_path / "out.zarr").exists()
+
+
+def snapshot(directory):
+    """Every file under ``directory`` with its bytes, and every folder, to see that nothing changed."""
+    found = {}
+    for folder, folders, files in os.walk(directory):
+        for name in folders:
+            found[os.path.relpath(os.path.join(folder, name), directory)] = None
+        for name in files:
+            path = os.path.join(folder, name)
+            with open(path, "rb") as stream:
+                found[os.path.relpath(path, directory)] = stream.read()
+    return found
+
+
+def make_data_folder(tmp_path):
+    data = tmp_path / "data"
+    data.mkdir()
+    save(data / "in.zarr", np.arange(60, dtype=np.uint8).reshape(3, 4, 5), (2, 2, 2))
+    (data / "notes.txt").write_text("keep\n")
+    mydocs = tmp_path / "mydocs"
+    mydocs.mkdir()
+    (mydocs / "thesis.txt").write_text("thesis\n")
+    (tmp_path / "file.txt").write_text("a file\n")
+    save(tmp_path / "earlier.zarr", np.zeros((2, 2), np.uint8), (1, 1))
+    (tmp_path / "earlier.zarr" / "notes.txt").write_text("mine\n")
+    os.symlink(tmp_path / "mydocs", tmp_path / "link.zarr")
+    return data
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["data/in.zarr", "data"], "cannot write 'data': it holds the input 'data/in.zarr'"),
+    (["data/in.zarr", "out.zarr", "--removed-mask", "data"], "cannot write 'data': it holds the input"),
+    (["data/in.zarr", "."], "cannot write '.': it holds the input"),
+    (["data/in.zarr", "data/in.zarr/out.zarr"], "lies inside the input 'data/in.zarr'"),
+    (["data/in.zarr", "mydocs"], "'mydocs': it is a directory that holds no Zarr array"),
+    (["data/in.zarr", "out.zarr", "--removed-mask", "mydocs"], "'mydocs': it is a directory that holds no Zarr"),
+    (["data/in.zarr", "file.txt"], "'file.txt': it is a file, not a Zarr array"),
+    (["data/in.zarr", "earlier.zarr"], "besides a Zarr array it holds 'notes.txt'"),
+    (["data/in.zarr", "link.zarr"], "'link.zarr': it is a symbolic link"),
+    (["data/in.zarr", "out.zarr", "--removed-mask", "out.zarr/mask.zarr"], "'out.zarr': it holds the output 'out.zarr/mask.zarr'"),
+    (["data/in.zarr", "out.zarr", "--stats", "data/in.zarr/.zarray"], "lies inside the input"),
+    (["data/in.zarr", "out.zarr", "--stats", "mydocs"], "'mydocs': it is a directory; expected the path of a file"),
+])
+def test_the_command_replaces_nothing_but_an_earlier_zarr_array(tmp_path, monkeypatch, capsys, arguments, message):
+    make_data_folder(tmp_path)
+    before = snapshot(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    status = command.main(arguments + ["--isovalue", "1", "--max-size", "2", "--quiet"])
+    stderr = capsys.readouterr().err
+    assert status == 2
+    assert stderr.count("\n") == 1 and message in stderr and "expected" in stderr, stderr
+    assert snapshot(tmp_path) == before
+
+
+def test_the_command_replaces_an_earlier_output_of_its_own(tmp_path, monkeypatch):
+    volume, isovalue = random_volume(np.random.default_rng(5), "uint8", (6, 7, 8))
+    save(tmp_path / "in.zarr", volume, (3, 3, 3))
+    monkeypatch.chdir(tmp_path)
+    for max_size in (2, 5):
+        arguments = ["in.zarr", "out.zarr", "--removed-mask", "mask.zarr", "--isovalue", str(isovalue),
+                     "--max-size", str(max_size), "--quiet"]
+        assert command.main(arguments) == 0
+        expected, mask = smalliso.remove_small_components(volume, isovalue, max_size, return_mask=True)
+        assert same_bits(zarr.open_array("out.zarr", mode="r")[...], expected)
+        assert same_bits(zarr.open_array("mask.zarr", mode="r")[...], mask)
+    assert leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("setup, message", [
+    ("plain file", "'in.zarr' is not a Zarr array (expected the directory of one array)"),
+    ("corrupt metadata", "'in.zarr' is not a readable Zarr array: its metadata 'in.zarr/.zarray' is invalid"),
+    ("no metadata", "'in.zarr' is not a Zarr array (expected the directory of one array)"),
+])
+def test_the_command_names_an_unreadable_input(tmp_path, monkeypatch, capsys, setup, message):
+    monkeypatch.chdir(tmp_path)
+    if setup == "plain file":
+        (tmp_path / "in.zarr").write_bytes(b"\x00" * 64)
+    else:
+        save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))
+        if setup == "corrupt metadata":
+            (tmp_path / "in.zarr" / ".zarray").write_text('{"chunks": [2, 2], "dtype": ')
+        else:
+            (tmp_path / "in.zarr" / ".zarray").unlink()
+    status = command.main(["in.zarr", "out.zarr", "--isovalue", "1"])
+    stderr = capsys.readouterr().err
+    assert status == 2 and stderr.count("\n") == 1 and message in stderr and "%r" not in stderr, stderr
+    assert not (tmp_path / "out.zarr").exists() and leftovers(tmp_path) == []
+
+
+def test_the_command_says_which_chunks_the_input_lacks(tmp_path, monkeypatch, capsys):
+    volume, isovalue = random_volume(np.random.default_rng(6), "int16", (6, 6, 6))
+    save(tmp_path / "in.zarr", volume, (3, 3, 3))
+    (tmp_path / "in.zarr" / "1.0.1").unlink()
+    monkeypatch.chdir(tmp_path)
+    assert command.main(["in.zarr", "out.zarr", "--isovalue", str(isovalue), "--stats", "s.json", "--quiet"]) == 0
+    stderr = capsys.readouterr().err
+    assert "1 of the 8 chunks of 'in.zarr' are not stored; Zarr reads them as the fill value 0" in stderr
+    with open("s.json") as stream:
+        assert json.load(stream)["input"]["missing_chunks"] == 1
+    sparse = volume.copy()
+    sparse[3:, :3, 3:] = 0
+    assert same_bits(zarr.open_array("out.zarr", mode="r")[...], smalliso.remove_small_components(sparse, isovalue))
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
+def test_a_signal_leaves_nothing_and_one_line(tmp_path, signum):
+    # Uniform noise with a large K: each task takes a while, so the signal comes mid-computation.
+    volume = np.random.default_rng(7).integers(0, 256, (96, 96, 96), dtype=np.uint8)
+    save(tmp_path / "in.zarr", volume, (24, 24, 24))
+    save(tmp_path / "out.zarr", np.zeros((2, 2), np.uint8), (1, 1))
+    process = subprocess.Popen(
+        [sys.executable, "-m", "smalliso.dask", tmp_path / "in.zarr", tmp_path / "out.zarr", "--isovalue", "128",
+         "--max-size", "200", "--removed-mask", tmp_path / "mask.zarr", "--quiet"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not any(name.endswith(".partial") for name in os.listdir(tmp_path)) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    time.sleep(0.2)
+    process.send_signal(signum)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == -signum, (process.returncode, stderr)
+    assert stderr == f"smalliso.dask: stopped by {signal.Signals(signum).name}; nothing was written\n"
+    assert leftovers(tmp_path) == []
+    assert zarr.open_array(str(tmp_path / "out.zarr"), mode="r").shape == (2, 2)
+    assert not (tmp_path / "mask.zarr").exists()
+
+
+def test_a_failure_leaves_nothing_once_the_running_writes_end(tmp_path, monkeypatch):
+    # The first chunk write fails while another is still under way (both slowed down here); that
+    # one must not make the removed staging directory anew.
+    volume, isovalue = random_volume(np.random.default_rng(8), "uint8", (8, 6, 6))
+    save(tmp_path / "in.zarr", volume, (2, 6, 6))
+    write = zarr.Array.__setitem__
+    calls = itertools.count()
+
+    def failing_then_slow_write(array, key, value):
+        first = next(calls) == 0
+        time.sleep(0.2 if first else 0.6)
+        if first:
+            raise OSError("the first write failed")
+        write(array, key, value)
+
+    monkeypatch.setattr(zarr.Array, "__setitem__", failing_then_slow_write)
+    with dask.config.set(scheduler="threads", num_workers=2), pytest.raises(OSError, match="first write"):
+        smalliso.dask.remove_small_components_zarr(tmp_path / "in.zarr", tmp_path / "out.zarr", isovalue, 1)
+    time.sleep(1)
+    assert leftovers(tmp_path) == [] and not (tmp_path / "out.zarr").exists()

@@ -4,6 +4,7 @@ import argparse
 import contextlib
 import json
 import os
+import signal
 import sys
 import tempfile
 import time
@@ -14,7 +15,7 @@ from dask.array.core import normalize_chunks
 
 import smalliso
 
-from ._zarr import remove_small_components_zarr
+from ._zarr import check_paths, open_input, remove_small_components_zarr
 
 TOOL = "smalliso.dask"
 LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -47,7 +48,9 @@ def _parser():
                     "is x). The output appears only when complete: it is written into a temporary directory "
                     "beside it and renamed into place.")
     parser.add_argument("input", metavar="IN.zarr", help="the Zarr array to filter (a directory store)")
-    parser.add_argument("output", metavar="OUT.zarr", help="where to write the filtered array (replaced if it exists)")
+    parser.add_argument("output", metavar="OUT.zarr",
+                        help="where to write the filtered array: a new path, or an earlier output (a Zarr array and "
+                             "nothing else), which is replaced; anything else there is refused")
     parser.add_argument("--isovalue", metavar="S", type=float, required=True,
                         help="voxels with a value >= S are above it, all others (NaN included) below; required")
     parser.add_argument("--max-size", metavar="K", type=int, default=20,
@@ -86,7 +89,8 @@ def _statistics_json(arguments, info, stats, seconds, total_seconds):
         "tool": TOOL,
         "version": smalliso.__version__,
         "input": {"path": arguments.input, "pixel_type": info["dtype"], "dimension": len(info["shape"]),
-                  "size": list(reversed(info["shape"])), "chunks": list(reversed(info["chunks"]))},
+                  "size": list(reversed(info["shape"])), "chunks": list(reversed(info["chunks"])),
+                  "missing_chunks": info["missing_chunks"]},
         "outputs": {"image": arguments.output, "removed_mask": arguments.removed_mask, "stats": arguments.stats},
         "parameters": {"isovalue": arguments.isovalue, "max_size": arguments.max_size,
                        "effective_max_size": stats["effective_max_size"], "side": arguments.side,
@@ -155,13 +159,37 @@ def _scheduler(name):
             yield client
 
 
+# Termination signals end the command as SIGINT does: the staged outputs are removed, one line
+# says so, and the process ends as the signal asks.
+_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class _Stopped(KeyboardInterrupt):
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _stop(signum, frame):
+    # One clean-up: a second signal must not interrupt the first one's.
+    for other in _SIGNALS:
+        signal.signal(other, signal.SIG_IGN)
+    raise _Stopped(signum)
+
+
 def main(argv=None):
     start = time.perf_counter()
     arguments = _parser().parse_args(argv)
-    if arguments.stats is not None and not os.path.isdir(os.path.dirname(os.path.abspath(arguments.stats))):
-        print(f"{TOOL}: error: cannot write --stats {arguments.stats!r}: its directory does not exist", file=sys.stderr)
-        return 2
+    outputs = [arguments.output] + ([arguments.removed_mask] if arguments.removed_mask is not None else [])
+    handlers = {signum: signal.signal(signum, _stop) for signum in _SIGNALS}
+    before = [_identity(path) for path in outputs]
     try:
+        check_paths(arguments.input, outputs, [arguments.stats] if arguments.stats is not None else [])
+        stored = open_input(arguments.input)
+        missing = stored.nchunks - stored.nchunks_initialized
+        if missing:
+            print(f"{TOOL}: note: {missing} of the {stored.nchunks} chunks of {arguments.input!r} are not stored; "
+                  f"Zarr reads them as the fill value {stored.fill_value}", file=sys.stderr)
         with _scheduler(arguments.scheduler) as client:
             begin = time.perf_counter()
             stats = remove_small_components_zarr(
@@ -169,8 +197,8 @@ def main(argv=None):
                 arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
                 progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
             seconds = time.perf_counter() - begin
-        stored = zarr.open_array(arguments.input, mode="r")
         info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
+                "missing_chunks": missing,
                 "task_chunks": [extents[0] for extents in normalize_chunks(
                     stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
         if arguments.stats is not None:
@@ -178,13 +206,41 @@ def main(argv=None):
                                    _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start))
         if not arguments.quiet:
             print(_summary(arguments, stats, seconds))
+    except KeyboardInterrupt as stop:
+        written = [path for path, identity in zip(outputs, before) if _identity(path) != identity]
+        _end_by_signal(getattr(stop, "signum", signal.SIGINT), written)
     except (TypeError, ValueError) as error:
         print(f"{TOOL}: error: {error}", file=sys.stderr)
         return 2
     except Exception as error:
         print(f"{TOOL}: failed: {type(error).__name__}: {error}", file=sys.stderr)
         return 1
+    finally:
+        for signum, handler in handlers.items():
+            signal.signal(signum, handler)
     return 0
+
+
+def _identity(path):
+    """What is at ``path`` (device and inode), None if nothing: an output renamed into place has
+    a new one."""
+    try:
+        status = os.lstat(path)
+    except FileNotFoundError:
+        return None
+    return status.st_dev, status.st_ino
+
+
+def _end_by_signal(signum, written):
+    """Says what the signal left, then ends the process as the signal asks (as the command-line
+    tool does), so that a shell sees which signal ended it."""
+    left = f"{' and '.join(map(repr, written))} written before it" if written else "nothing was written"
+    print(f"{TOOL}: stopped by {signal.Signals(signum).name}; {left}", file=sys.stderr, flush=True)
+    sys.stdout.flush()
+    signal.signal(signum, signal.SIG_DFL)
+    os.kill(os.getpid(), signum)
+    # Reached only where the signal does not end the process (it is blocked): end as it would.
+    sys.exit(128 + signum)
 
 
 if __name__ == "__main__":

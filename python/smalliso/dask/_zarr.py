@@ -2,15 +2,22 @@
 it is complete."""
 
 import os
+import re
 import shutil
 import sys
 import tempfile
+import threading
 
 import dask
 import dask.array as da
 import zarr
 
 from ._graph import remove_small_components
+
+# The names a Zarr array's directory holds: its metadata, and chunk keys ("0.1.2", or "0/1/2"
+# with nested directories).
+_ZARR_METADATA = (".zarray", ".zattrs")
+_CHUNK_KEY = re.compile(r"\d+(\.\d+)*")
 
 
 def remove_small_components_zarr(source, target, isovalue, max_size=20, side="both", fully_connected=False, *,
@@ -30,22 +37,16 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
 
     Each task reads its chunk and halo from ``source`` itself, so a worker holds only the few
     chunks of the tasks it runs. Every output is written chunk by chunk by the tasks into a
-    temporary directory beside it and renamed into place only when all of them are complete
-    (replacing an existing one), so a failure leaves no half-written array behind.
+    temporary directory beside it and renamed into place only when all of them are complete, so a
+    failure or an interruption leaves no half-written array behind. An output path must be new or
+    hold a Zarr array (an earlier output, which is replaced); it must neither hold nor lie inside
+    the input or the other output. Anything else there is refused with a ValueError before any
+    work, so nothing but an earlier Zarr array is ever replaced.
     """
     source = os.fspath(source)
     outputs = [os.fspath(target)] + ([os.fspath(removed_mask)] if removed_mask is not None else [])
-    paths = [os.path.realpath(path) for path in [source] + outputs]
-    if len(set(paths)) != len(paths):
-        raise ValueError(f"the input and the outputs must be different paths, not {[source] + outputs}")
-    try:
-        stored = zarr.open_array(source, mode="r")
-    except (zarr.errors.ArrayNotFoundError, zarr.errors.ContainsGroupError, FileNotFoundError):
-        raise ValueError(f"{source!r} is not a Zarr array (expected the directory of one array)") from None
-    for path in outputs:
-        parent = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(parent):
-            raise ValueError(f"cannot write {path!r}: its directory {parent!r} does not exist")
+    check_paths(source, outputs)
+    stored = open_input(source)
 
     parts = remove_small_components(stored, isovalue, max_size, side, fully_connected,
                                     max_volume=max_volume, spacing=spacing, return_mask=removed_mask is not None,
@@ -56,8 +57,8 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
                              f"{stored.chunks}, so that no two tasks write one stored chunk")
     arrays, stats = parts[:-1], parts[-1]
     staged = []
+    targets = []
     try:
-        targets = []
         for index, (path, array) in enumerate(zip(outputs, arrays)):
             staged.append(tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
                                            dir=os.path.dirname(os.path.abspath(path))))
@@ -67,18 +68,128 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
                                       dtype=array.dtype, **options)
             if index == 0:
                 written.attrs.update(stored.attrs.asdict())
-            targets.append(written)
+            targets.append(_StagedArray(written))
         # Unfused, the stores' graph and the statistics' share the chunks' filter tasks.
         with dask.config.set({"optimization.fuse.active": False}):
             stores = da.store(list(arrays), targets, lock=False, compute=False)
             statistics = _compute(stores, stats, client, progress)
         for staging, path in zip(staged, outputs):
-            _replace(staging, path)
+            _replace(staging, path, source)
     except BaseException:
+        for written in targets:
+            written.close()
         for staging in staged:
             shutil.rmtree(staging, ignore_errors=True)
         raise
     return statistics
+
+
+def open_input(source):
+    """The Zarr array at ``source``, read-only, or a ValueError saying why it cannot be read."""
+    not_an_array = ValueError(f"{source!r} is not a Zarr array (expected the directory of one array)")
+    if not os.path.isdir(source):
+        raise not_an_array
+    try:
+        return zarr.open_array(source, mode="r")
+    except (zarr.errors.ArrayNotFoundError, zarr.errors.ContainsGroupError, FileNotFoundError, NotADirectoryError):
+        raise not_an_array from None
+    except (ValueError, KeyError, TypeError) as error:
+        raise ValueError(f"{source!r} is not a readable Zarr array: its metadata "
+                         f"{os.path.join(source, '.zarray')!r} is invalid ({error})") from None
+
+
+def check_paths(source, outputs, files=()):
+    """Raises a ValueError unless every output directory (and every file of ``files``) can be
+    written without losing anything: each path distinct, none holding or inside another or the
+    input, its directory existing, and an existing output directory a Zarr array."""
+    named = [("the input", source)] + [("the output", path) for path in outputs] + [("the file", f) for f in files]
+    resolved = [os.path.realpath(path) for _, path in named]
+    if len(set(resolved)) != len(resolved):
+        raise ValueError(f"the input and the outputs must be different paths, not {[path for _, path in named]}")
+    for (what, path), real in zip(named[1:], resolved[1:]):
+        for (other_what, other), other_real in zip(named, resolved):
+            if other_real.startswith(real + os.sep):
+                raise ValueError(f"cannot write {path!r}: it holds {other_what} {other!r}; expected a path of its "
+                                 "own (a new one, or an earlier output of this command)")
+            if real.startswith(other_real + os.sep):
+                raise ValueError(f"cannot write {path!r}: it lies inside {other_what} {other!r}; expected a path "
+                                 "of its own")
+        parent = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(parent):
+            raise ValueError(f"cannot write {path!r}: its directory {parent!r} does not exist")
+    for path in outputs:
+        check_replaceable(path)
+    for path in files:
+        if os.path.isdir(path):
+            raise ValueError(f"cannot write {path!r}: it is a directory; expected the path of a file")
+
+
+def check_replaceable(path):
+    """Raises a ValueError unless ``path`` is free or holds a Zarr array and nothing else."""
+    if not os.path.lexists(path):
+        return
+    expected = "expected a new path or an earlier output of this command (a Zarr array), which is replaced"
+    if os.path.islink(path):
+        raise ValueError(f"cannot write {path!r}: it is a symbolic link; {expected}")
+    if not os.path.isdir(path):
+        raise ValueError(f"cannot write {path!r}: it is a file, not a Zarr array; {expected}")
+    if not os.path.isfile(os.path.join(path, ".zarray")):
+        raise ValueError(f"cannot write {path!r}: it is a directory that holds no Zarr array; {expected}")
+    stranger = _first_stranger(path)
+    if stranger is not None:
+        raise ValueError(f"cannot write {path!r}: besides a Zarr array it holds {stranger!r}; {expected}")
+
+
+def _first_stranger(path):
+    """The first entry of the Zarr array's directory ``path`` that is neither its metadata nor a
+    chunk, or None."""
+    for directory, folders, files in os.walk(path):
+        top = directory == path
+        for name in sorted(folders):
+            if not name.isdigit():
+                return os.path.relpath(os.path.join(directory, name), path)
+        for name in sorted(files):
+            if not (_CHUNK_KEY.fullmatch(name) or (top and name in _ZARR_METADATA)):
+                return os.path.relpath(os.path.join(directory, name), path)
+    return None
+
+
+class _StagedArray:
+    """A staged Zarr array that the tasks write chunks into, until it is closed: a write begun
+    before ``close`` ends before ``close`` returns, and none begins after, so a removed staging
+    directory is not made anew by a task still running (Zarr makes the directories it writes into).
+    Pickled for another process, it is the plain array there."""
+
+    def __init__(self, array):
+        self.array = array
+        self.shape, self.dtype, self.ndim = array.shape, array.dtype, array.ndim
+        self._writing = 0
+        self._closed = False
+        self._condition = threading.Condition()
+
+    def __setitem__(self, key, value):
+        with self._condition:
+            if self._closed:
+                raise RuntimeError("the output was abandoned")
+            self._writing += 1
+        try:
+            self.array[key] = value
+        finally:
+            with self._condition:
+                self._writing -= 1
+                self._condition.notify_all()
+
+    def close(self):
+        with self._condition:
+            self._closed = True
+            self._condition.wait_for(lambda: self._writing == 0)
+
+    def __reduce__(self):
+        return (_identity, (self.array,))
+
+
+def _identity(value):
+    return value
 
 
 def _compute(stores, stats, client, progress):
@@ -86,10 +197,14 @@ def _compute(stores, stats, client, progress):
     once)."""
     if client is not None:
         futures = client.compute([stores, stats])
-        if progress:
-            from distributed import progress as show_progress
-            show_progress(futures)
-        return client.gather(futures)[1]
+        try:
+            if progress:
+                from distributed import progress as show_progress
+                show_progress(futures)
+            return client.gather(futures)[1]
+        except BaseException:
+            client.cancel(futures)
+            raise
     if progress:
         from dask.diagnostics import ProgressBar
         with ProgressBar(out=sys.stderr):
@@ -97,8 +212,10 @@ def _compute(stores, stats, client, progress):
     return dask.compute(stores, stats)[1]
 
 
-def _replace(staging, path):
-    """Renames the complete ``staging`` directory to ``path``, moving an old ``path`` aside first."""
+def _replace(staging, path, source):
+    """Renames the complete ``staging`` directory to ``path``, moving an earlier output there aside
+    first (checked again: it must still be a Zarr array and nothing else)."""
+    check_paths(source, [path])
     if not os.path.lexists(path):
         os.rename(staging, path)
         return
@@ -106,7 +223,4 @@ def _replace(staging, path):
     os.rmdir(old)
     os.rename(path, old)
     os.rename(staging, path)
-    if os.path.isdir(old) and not os.path.islink(old):
-        shutil.rmtree(old)
-    else:
-        os.remove(old)
+    shutil.rmtree(old)
