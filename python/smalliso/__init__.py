@@ -9,6 +9,5 @@ has no tiny pieces.
 
 from ._core import pixel_types
 from ._numpy import remove_small_components
-
-__version__ = "0.1.0"
+from ._version import __version__
 __all__ = ["pixel_types", "remove_small_components"]
