@@ -109,6 +109,38 @@ DataBytesOf(const std::vector<std::string> & sizes, std::uint64_t bytesPerValue)
   return bytes;
 }
 
+/** Why the header field \a field, whose value is \a sizes, does not give a whole number of voxels of at least 1
+ * along each axis; empty when it does. ITK's NRRD reader refuses such sizes with a trace that does not say which
+ * field is wrong, and its MetaImage reader takes a negative size as a huge one. */
+std::string
+SizesProblem(const std::string & field, const std::vector<std::string> & sizes)
+{
+  bool        whole = !sizes.empty();
+  bool        empty = false;
+  std::string shown;
+  for (const std::string & text : sizes)
+  {
+    const std::optional<std::int64_t> size = ParseInteger(text);
+    whole = whole && size && *size >= 0;
+    empty = empty || (size && *size == 0);
+    shown += (shown.empty() ? "" : " x ") + text;
+  }
+  if (!whole)
+  {
+    std::string value;
+    for (const std::string & text : sizes)
+    {
+      value += " " + text;
+    }
+    return "its header gives '" + field + value + "'; expected a whole number of voxels, at least 1, along each axis";
+  }
+  if (empty)
+  {
+    return "is empty: its size is " + shown + " voxels; expected at least one voxel along every axis";
+  }
+  return {};
+}
+
 /** A file's lines with the byte offset after each, reading no further than asked. */
 class LineReader
 {
@@ -341,6 +373,12 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
     listing = name == "datafile" && value.compare(0, 4, "LIST") == 0;
   }
   const std::uint64_t headerEnd = reader.Offset();
+  problem = SizesProblem("sizes:", Words(fields["sizes"]));
+  if (!problem.empty())
+  {
+    parts.UnsafeForItk = true;
+    return;
+  }
 
   const std::string encoding = Lowercase(fields["encoding"]);
   parts.EncodingName = encoding;
@@ -500,11 +538,18 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
                                                  ? ParseInteger(fields["ElementNumberOfChannels"])
                                                  : std::optional<std::int64_t>(1);
   const std::uint64_t               typeBytes = MetaTypeBytes(fields["ElementType"]);
-  if (typeBytes > 0 && dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size() && channels &&
-      *channels >= 1)
+  // MetaIO reads the first NDims sizes.
+  const bool counted = dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size();
+  const std::vector<std::string> axes(sizes.begin(), counted ? sizes.begin() + *dimensions : sizes.end());
+  problem = SizesProblem("DimSize =", axes);
+  if (!problem.empty())
   {
-    parts.DataBytes = DataBytesOf(std::vector<std::string>(sizes.begin(), sizes.begin() + *dimensions),
-                                  SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
+    parts.UnsafeForItk = true;
+    return;
+  }
+  if (typeBytes > 0 && counted && channels && *channels >= 1)
+  {
+    parts.DataBytes = DataBytesOf(axes, SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
   }
   const bool         compressed = Lowercase(fields["CompressedData"]) == "true";
   const std::int64_t headerSize = ParseLeadingInteger(fields["HeaderSize"]).value_or(0);

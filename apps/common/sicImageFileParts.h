@@ -75,8 +75,9 @@ struct ImageFileParts
   /** The size of the voxels in bytes, as the header describes them (sizes times bytes per voxel), when it says;
    * the largest 64-bit number when that product overflows. */
   std::optional<std::uint64_t> DataBytes;
-  /** Whether the header has a fault that ITK's own reader does not survive, so that it must be refused before
-   * ITK reads it (a MetaImage field name of 255 characters or more overflows MetaIO's buffer). */
+  /** Whether the header has a fault that must be refused before ITK reads it: one its reader does not survive (a
+   * MetaImage field name of 255 characters or more overflows MetaIO's buffer), misreads or reports without saying
+   * what is wrong (sizes that are not whole numbers of at least 1). */
   bool UnsafeForItk{ false };
   /** Whether the header names its data files as a list or a numbered series (even a series of one file). */
   bool DataFileSeries{ false };

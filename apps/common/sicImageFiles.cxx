@@ -100,8 +100,9 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
                     ": it is not a regular file (a FIFO, device or socket); expected an image file");
   }
   const auto refuse = [&](const std::string & problem) {
+    const bool saysExpected = problem.find("; expected") != std::string::npos;
     throw ToolError(what + " " + quoted + " " + (problem.compare(0, 3, "is ") == 0 ? "" : "cannot be read: ") +
-                    problem + "; expected a complete, intact image file");
+                    problem + (saysExpected ? "" : "; expected a complete, intact image file"));
   };
   // The data files are checked before ITK reads the header: its NRRD reader opens them, and would wait forever
   // for a FIFO. A header only this parser finds fault with is refused after ITK had its say.

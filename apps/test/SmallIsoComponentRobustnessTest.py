@@ -332,6 +332,27 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         self.assertLess(peak_kib, 1024 * 1024, "a tool run used %d MiB" % (peak_kib // 1024))
 
+    def test_sizes_that_are_not_whole_numbers_of_at_least_one_are_refused(self):
+        # ITK's NRRD reader refuses them with a trace that does not say which field is wrong, and its MetaImage
+        # reader takes a negative size as a huge one.
+        data = bytes(2 * 4 * 4 * 4)
+        write_nrrd(self.path("zero.nrrd"), [0, 4, 4], data)
+        write_nrrd(self.path("negative.nrrd"), [4, -4, 4], data)
+        write_nrrd(self.path("word.nhdr"), ["4", "four", "4"], data, data_file="word.raw")
+        write_metaimage(self.path("negative.mha"), [4, -4, 4], data)
+        cases = (("zero.nrrd", ["is empty", "0 x 4 x 4", "expected at least one voxel along every axis"]),
+                 ("negative.nrrd", ["'sizes: 4 -4 4'", "expected a whole number of voxels, at least 1"]),
+                 ("word.nhdr", ["'sizes: 4 four 4'", "expected a whole number of voxels, at least 1"]),
+                 ("negative.mha", ["'DimSize = 4 -4 4'", "expected a whole number of voxels, at least 1"]))
+        before = self.listing()
+        for name, words in cases:
+            with self.subTest(input=name):
+                line = self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "0.5"),
+                                             name, *words)
+                self.assertEqual(line.count("expected"), 1, line)
+                self.assertUsageError(run(REPORT, self.path(name), "--isovalue", "0.5"), name, *words)
+        self.assertEqual(self.listing(), before)
+
     # 5. Termination signals remove the staged outputs, then end the tool as the signal would.
 
     def test_termination_signals_remove_staged_outputs(self):
