@@ -295,10 +295,28 @@ PngProblem(const fs::path & path)
   }
 }
 
+/** Why the CompressedDataSize of a MetaImage's \a segment is not \a compressedBytes, the bytes its stream takes;
+ * empty when it is. ITK's reader inflates that many bytes alone, from the data file's first byte when the field is
+ * missing, and leaves the voxels it did not get zero. */
+std::string
+CompressedSizeProblem(const ImageDataSegment & segment, std::uint64_t compressedBytes)
+{
+  const std::string expected = "; expected 'CompressedDataSize = " + std::to_string(compressedBytes) + "'";
+  if (!segment.CompressedBytes && segment.Offset > 0)
+  {
+    return "its header gives no CompressedDataSize, which ITK needs for data that do not start their file" + expected;
+  }
+  if (segment.CompressedBytes && *segment.CompressedBytes != compressedBytes)
+  {
+    return "its header gives 'CompressedDataSize = " + std::to_string(*segment.CompressedBytes) +
+           "' and its compressed data take " + Bytes(compressedBytes) + expected;
+  }
+  return {};
+}
 } // namespace
 
-std::uint64_t
-InflatedSize(const fs::path & path, std::uint64_t offset, std::string & problem)
+InflatedData
+Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string & problem)
 {
   problem.clear();
   std::ifstream file(path, std::ios::binary);
@@ -306,20 +324,26 @@ InflatedSize(const fs::path & path, std::uint64_t offset, std::string & problem)
   if (!file)
   {
     problem = "is missing";
-    return 0;
+    return {};
   }
   std::vector<unsigned char> input(262144);
   Inflater                   inflater;
   z_stream &                 stream = inflater.Stream();
-  std::uint64_t              inflated = 0;
-  bool                       started = false;
+  InflatedData               inflated;
+  std::uint64_t              read = 0;
+  const auto                 fill = [&](size_t kept) {
+    std::copy(stream.next_in, stream.next_in + kept, input.begin());
+    file.read(reinterpret_cast<char *>(input.data() + kept), static_cast<std::streamsize>(input.size() - kept));
+    read += static_cast<std::uint64_t>(file.gcount());
+    stream.next_in = input.data();
+    stream.avail_in = static_cast<uInt>(kept + static_cast<size_t>(file.gcount()));
+  };
+  bool started = false;
   while (true)
   {
     if (stream.avail_in == 0)
     {
-      file.read(reinterpret_cast<char *>(input.data()), static_cast<std::streamsize>(input.size()));
-      stream.next_in = input.data();
-      stream.avail_in = static_cast<uInt>(file.gcount());
+      fill(0);
       if (stream.avail_in == 0)
       {
         problem = started ? "is cut short" : "is missing";
@@ -327,7 +351,7 @@ InflatedSize(const fs::path & path, std::uint64_t offset, std::string & problem)
       }
     }
     started = true;
-    const int status = inflater.Run(inflated);
+    const int status = inflater.Run(inflated.Bytes);
     if (status == Z_OK)
     {
       continue;
@@ -338,15 +362,12 @@ InflatedSize(const fs::path & path, std::uint64_t offset, std::string & problem)
       return inflated;
     }
     // One stream ended, checksum and all: another gzip member may follow.
-    if (stream.avail_in < 2)
+    inflated.CompressedBytes = read - stream.avail_in;
+    if (members && stream.avail_in < 2)
     {
-      const size_t kept = stream.avail_in;
-      std::copy(stream.next_in, stream.next_in + kept, input.begin());
-      file.read(reinterpret_cast<char *>(input.data() + kept), static_cast<std::streamsize>(input.size() - kept));
-      stream.next_in = input.data();
-      stream.avail_in = static_cast<uInt>(kept + static_cast<size_t>(file.gcount()));
+      fill(stream.avail_in);
     }
-    if (stream.avail_in < 2 || stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b)
+    if (!members || stream.avail_in < 2 || stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b)
     {
       return inflated;
     }
@@ -386,8 +407,9 @@ ImageFileProblem(const ImageFileParts & parts)
       available += segment.AtEnd ? size : size - std::min(size, segment.Offset);
       continue;
     }
-    std::string         problem;
-    const std::uint64_t inflated = InflatedSize(segment.File, segment.Offset, problem);
+    const bool         metaImage = parts.Format == ImageFileFormat::MetaImage;
+    std::string        problem;
+    const InflatedData inflated = Inflate(segment.File, segment.Offset, !metaImage, problem);
     if (!problem.empty())
     {
       const bool incomplete = problem == "is cut short" || problem == "is missing";
@@ -396,7 +418,15 @@ ImageFileProblem(const ImageFileParts & parts)
                                                   : "the compressed data of its data file " + Quoted(segment.File)) +
              " " + problem;
     }
-    available += inflated - std::min(inflated, segment.InflatedOffset);
+    if (metaImage && !parts.DataFileSeries)
+    {
+      problem = CompressedSizeProblem(segment, inflated.CompressedBytes);
+      if (!problem.empty())
+      {
+        return problem;
+      }
+    }
+    available += inflated.Bytes - std::min(inflated.Bytes, segment.InflatedOffset);
   }
   if (checked && parts.DataBytes && available < *parts.DataBytes)
   {

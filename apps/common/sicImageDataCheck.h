@@ -34,18 +34,27 @@ namespace sic
  * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does,
  * or when its format is ImageFileFormat::Other. Checks that every data file is a regular file; that raw data has
  * as many bytes as the header describes (without reading them); that compressed data is complete zlib or gzip
- * streams whose checksums (and gzip lengths) match, inflating to enough bytes (reading them once); and that a PNG
+ * streams whose checksums (and gzip lengths) match, inflating to enough bytes (reading them once),
+ * and for MetaImage that its CompressedDataSize is what its stream takes; and that a PNG
  * file's chunks are complete, pass their CRCs and end with IEND. Data files are named as they are given: callers
  * that show other names replace them. */
 std::string
 ImageFileProblem(const ImageFileParts & parts);
 
-/** Inflates the zlib or gzip streams that fill \a file from byte \a offset on (gzip members one after another;
- * anything after the last one is ignored, as zlib's own reader ignores it), checking each stream's checksum, and
- * returns the number of bytes they inflate to. Sets \a problem ("is missing", "is cut short", "fails its checksum
- * (incorrect data check)", "is corrupt (...)") when the data is not complete, intact zlib or gzip data. */
-std::uint64_t
-InflatedSize(const std::filesystem::path & file, std::uint64_t offset, std::string & problem);
+/** What Inflate() found: the bytes the data inflate to, and the compressed bytes that hold them. */
+struct InflatedData
+{
+  std::uint64_t Bytes{ 0 };
+  std::uint64_t CompressedBytes{ 0 };
+};
+
+/** Inflates the zlib or gzip stream that starts at byte \a offset of \a file, checking its checksum, and with
+ * \a members the gzip members that follow it, as NRRD and NIfTI readers do (anything after the last one is
+ * ignored, as zlib's own reader ignores it); MetaImage's reader takes the first stream alone. Sets \a problem ("is
+ * missing", "is cut short", "fails its checksum (incorrect data check)", "is corrupt (...)") when the data is not
+ * complete, intact zlib or gzip data. */
+InflatedData
+Inflate(const std::filesystem::path & file, std::uint64_t offset, bool members, std::string & problem);
 } // namespace sic
 
 #endif

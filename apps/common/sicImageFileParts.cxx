@@ -553,6 +553,10 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   }
   const bool         compressed = Lowercase(fields["CompressedData"]) == "true";
   const std::int64_t headerSize = ParseLeadingInteger(fields["HeaderSize"]).value_or(0);
+  // MetaIO takes a CompressedDataSize of 0, or none, as the whole data file.
+  const std::optional<std::int64_t>  compressedSize = ParseInteger(fields["CompressedDataSize"]);
+  const std::optional<std::uint64_t> compressedBytes =
+    compressed && compressedSize && *compressedSize > 0 ? std::optional<std::uint64_t>(*compressedSize) : std::nullopt;
 
   const std::string              value = fields["ElementDataFile"];
   const std::vector<std::string> words = Words(value);
@@ -572,6 +576,7 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
     segment.AtEnd = !compressed && headerSize == -1;
     segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : headerEnd;
+    segment.CompressedBytes = compressedBytes;
     parts.Data.push_back(segment);
     return;
   }
@@ -607,6 +612,7 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
     segment.AtEnd = !compressed && headerSize == -1;
     segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : 0;
+    segment.CompressedBytes = compressedBytes;
     parts.Data.push_back(segment);
   }
 }

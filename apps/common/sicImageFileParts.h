@@ -51,6 +51,9 @@ struct ImageDataSegment
   /** Deflate only: bytes of the inflated data before the voxels (NIfTI's vox_offset in a .nii.gz, NRRD's byte
    * skip of compressed data). */
   std::uint64_t InflatedOffset{ 0 };
+  /** Deflate, MetaImage only: its CompressedDataSize, the bytes ITK's reader takes from Offset on and inflates as
+   * one stream; none when the header gives no whole number of bytes there. */
+  std::optional<std::uint64_t> CompressedBytes;
 };
 
 /** The image file formats whose files the tools check themselves. */

@@ -29,13 +29,17 @@ PROBE = os.environ.get("SIC_PROBE", "")
 TEST_ISOVALUE = "50"
 
 
-def write_metaimage(path, sizes, data, compressed=False, data_file="LOCAL"):
-    """A MetaImage file written by hand (int16), its data attached (LOCAL) or in data_file."""
+def write_metaimage(path, sizes, data, compressed=False, data_file="LOCAL", compressed_size=None):
+    """A MetaImage file written by hand (int16), its data attached (LOCAL) or in data_file. compressed_size: the
+    CompressedDataSize written (by default the compressed data's; "" for none)."""
     payload = zlib.compress(data) if compressed else data
+    if compressed_size is None:
+        compressed_size = len(payload)
     header = ("ObjectType = Image\nNDims = %d\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
               "CompressedData = %s\n%sDimSize = %s\nElementType = MET_SHORT\nElementDataFile = %s\n") % (
         len(sizes), "True" if compressed else "False",
-        "CompressedDataSize = %d\n" % len(payload) if compressed else "", " ".join(str(s) for s in sizes), data_file)
+        "CompressedDataSize = %s\n" % compressed_size if compressed and compressed_size != "" else "",
+        " ".join(str(s) for s in sizes), data_file)
     if data_file == "LOCAL":
         with open(path, "wb") as file:
             file.write(header.encode() + payload)
@@ -331,6 +335,39 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         # Refused before the voxels were allocated: no tool run here came near their size.
         peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         self.assertLess(peak_kib, 1024 * 1024, "a tool run used %d MiB" % (peak_kib // 1024))
+
+    def test_metaimage_compressed_data_size_must_be_what_its_stream_takes(self):
+        # ITK's MetaImage reader inflates CompressedDataSize bytes alone (without the field, the data file from its
+        # first byte) and leaves the voxels after them zero: both modes and the report refuse a wrong or missing
+        # field, saying what it should be.
+        data = ball(32)
+        size = len(zlib.compress(data))
+        refused = (("half.mha", "LOCAL", size // 2), ("half.mhd", "half.zraw", size // 2),
+                   ("double.mha", "LOCAL", 2 * size), ("none.mha", "LOCAL", ""))
+        for name, data_file, field in refused:
+            write_metaimage(self.path(name), [32] * 3, data, compressed=True, data_file=data_file,
+                            compressed_size=field)
+        before = self.listing()
+        for name, _, _ in refused:
+            for options in ([], ["--memory-limit", "64M"]):
+                with self.subTest(input=name, options=options):
+                    self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "2",
+                                              "--quiet", *options), name, "expected 'CompressedDataSize = %d'" % size)
+            self.assertUsageError(run(REPORT, self.path(name), "--isovalue", "2", "--no-surfaces"), name,
+                                  "CompressedDataSize")
+        self.assertEqual(self.listing(), before)
+        # Read alike by both modes: the right size, or none before data that start their file.
+        write_metaimage(self.path("right.mha"), [32] * 3, data, compressed=True)
+        write_metaimage(self.path("whole.mhd"), [32] * 3, data, compressed=True, data_file="whole.zraw",
+                        compressed_size="")
+        for name in ("right.mha", "whole.mhd"):
+            with self.subTest(input=name):
+                outputs = [self.path(name + "-memory.nrrd"), self.path(name + "-streamed.nrrd")]
+                self.check(run(FILTER, self.path(name), outputs[0], "--isovalue", "2", "--quiet"))
+                self.check(run(FILTER, self.path(name), outputs[1], "--isovalue", "2", "--quiet",
+                               "--memory-limit", "64M"))
+                self.check(run(PROBE, "equal", outputs[0], outputs[1]))
+                self.check(run(PROBE, "equal", outputs[0], self.path("right.mha-memory.nrrd")))
 
     def test_sizes_that_are_not_whole_numbers_of_at_least_one_are_refused(self):
         # ITK's NRRD reader refuses them with a trace that does not say which field is wrong, and its MetaImage
