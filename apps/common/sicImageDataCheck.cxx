@@ -384,6 +384,8 @@ ImageFileProblem(const ImageFileParts & parts)
   }
   std::uint64_t available = 0;
   bool          checked = !parts.Data.empty();
+  // Whether the data are compressed and should inflate to the voxels alone.
+  bool exact = checked;
   for (const ImageDataSegment & segment : parts.Data)
   {
     std::error_code error;
@@ -403,6 +405,7 @@ ImageFileProblem(const ImageFileParts & parts)
     }
     if (segment.Encoding == ImageDataEncoding::Raw)
     {
+      exact = false;
       const std::uint64_t size = fs::file_size(segment.File, error);
       available += segment.AtEnd ? size : size - std::min(size, segment.Offset);
       continue;
@@ -427,6 +430,7 @@ ImageFileProblem(const ImageFileParts & parts)
       }
     }
     available += inflated.Bytes - std::min(inflated.Bytes, segment.InflatedOffset);
+    exact = exact && !segment.AtEnd;
   }
   if (checked && parts.DataBytes && available < *parts.DataBytes)
   {
@@ -436,6 +440,13 @@ ImageFileProblem(const ImageFileParts & parts)
                                                        : "its data files hold ";
     return "is incomplete: " + where + Bytes(available) + " of voxels and its header describes " +
            Bytes(*parts.DataBytes);
+  }
+  // More voxels than the header describes: its sizes or type are wrong, and no reader can tell which voxels are
+  // meant. Raw data may be followed by other bytes.
+  if (checked && exact && parts.DataBytes && available > *parts.DataBytes)
+  {
+    return "is inconsistent: its compressed data inflate to " + Bytes(available) +
+           " of voxels and its header describes " + Bytes(*parts.DataBytes) + "; expected exactly as many";
   }
   return {};
 }

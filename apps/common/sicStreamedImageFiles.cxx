@@ -246,6 +246,28 @@ struct PlaneReader::Data
   }
 };
 
+namespace
+{
+/** After one compressed stream ended: starts inflating the gzip member that follows it, if one does (pigz, bgzip
+ * and concatenated gzip files have several); false when none does. */
+bool
+StartNextMember(z_stream & stream, std::vector<uint8_t> & in, std::FILE * file)
+{
+  if (stream.avail_in < 2)
+  {
+    const std::size_t kept = stream.avail_in;
+    std::copy(stream.next_in, stream.next_in + kept, in.begin());
+    stream.next_in = in.data();
+    stream.avail_in = static_cast<uInt>(kept + std::fread(in.data() + kept, 1, in.size() - kept, file));
+  }
+  if (stream.avail_in < 2 || stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b)
+  {
+    return false;
+  }
+  return inflateReset(&stream) == Z_OK;
+}
+} // namespace
+
 PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   : m_Path(path)
   , m_What(what)
@@ -374,6 +396,10 @@ PlaneReader::Read(void * buffer, uint64_t planes)
     uint64_t left = bytes;
     while (left > 0)
     {
+      if (data.StreamEnded && StartNextMember(data.Stream, data.In, data.File))
+      {
+        data.StreamEnded = false;
+      }
       if (data.StreamEnded)
       {
         throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data hold " +
@@ -420,10 +446,11 @@ PlaneReader::Finish()
   {
     return;
   }
-  // The stream must end here, and its checksum match.
+  // The stream must end here, and its checksum match; so must any gzip members that follow, holding nothing.
   uint8_t scratch[64];
-  while (!data.StreamEnded)
+  while (!data.StreamEnded || StartNextMember(data.Stream, data.In, data.File))
   {
+    data.StreamEnded = false;
     if (data.Stream.avail_in == 0)
     {
       const std::size_t got = std::fread(data.In.data(), 1, data.In.size(), data.File);
@@ -444,9 +471,9 @@ PlaneReader::Finish()
     }
     if (data.Stream.avail_out != sizeof(scratch))
     {
-      throw ToolError(m_What + " " + Quoted(m_Path) +
-                      " is corrupt: its compressed data hold more voxels than its "
-                      "header says");
+      throw ToolError(m_What + " " + Quoted(m_Path) + " is inconsistent: its compressed data inflate to " +
+                      "more than the " + std::to_string(data.BytesTotal) +
+                      " bytes of voxels its header describes; expected exactly as many");
     }
     data.StreamEnded = status == Z_STREAM_END;
   }

@@ -8,10 +8,12 @@ Environment: SIC_FILTER, SIC_PHANTOM, SIC_PROBE (see SmallIsoComponentCLITest.py
 SIC_SCRATCH, SIC_SANITIZER (the sanitizer the tools were built with, if any).
 """
 
+import gzip
 import json
 import os
 import sys
 import unittest
+import zlib
 
 from sic_tool_test import USAGE_ERROR, ToolTestCase, noise, run
 
@@ -138,6 +140,48 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                 self.assertGreater(reference["statistics"]["modified_voxels"], 0)
                 self.assertSameImages(self.path(stem + "-streamed.nrrd"), self.path(stem + "-memory.nrrd"))
                 self.assertSameImages(self.path(stem + "-streamed-mask.nrrd"), self.path(stem + "-memory-mask.nrrd"))
+
+    def test_both_modes_accept_and_refuse_the_same_compressed_inputs(self):
+        """gzip data in several members (what pigz, bgzip and concatenated gzip files hold) are read alike by
+        both modes; compressed data that inflate to more voxels than the header describes are refused by both."""
+        sizes = (24, 20, 16)
+        plane = sizes[0] * sizes[1]
+        voxels = bytes(200 if value < 90 else 10 for value in noise(plane * sizes[2], seed=5))
+        third = len(voxels) // 3
+        nrrd = ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: %d %d %d\nendian: little\nencoding: gzip\n\n"
+                % sizes).encode()
+        meta = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nCompressedData = True\n"
+                "CompressedDataSize = %d\nDimSize = %d %d %d\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+        extra = zlib.compress(voxels + voxels[:plane])
+        files = {
+            "one.nrrd": nrrd + gzip.compress(voxels),
+            "two.nrrd": nrrd + gzip.compress(voxels[:third]) + gzip.compress(voxels[third:]),
+            "bgzip.nrrd": nrrd + b"".join(gzip.compress(voxels[i:i + third]) for i in range(0, len(voxels), third))
+            + gzip.compress(b""),
+            "extra.nrrd": nrrd + gzip.compress(voxels + voxels[:plane]),
+            "extra.mha": (meta % ((len(extra),) + sizes)).encode() + extra,
+        }
+        for name, content in files.items():
+            with open(self.path(name), "wb") as file:
+                file.write(content)
+        reference = self.filtered(self.path("one.nrrd"), self.path("reference.nrrd"))
+        self.assertGreater(reference["statistics"]["modified_voxels"], 0)
+        for name in ("one.nrrd", "two.nrrd", "bgzip.nrrd"):
+            for mode, options in (("memory", []), ("streamed", ["--memory-limit", "512M"])):
+                with self.subTest(name=name, mode=mode):
+                    output = self.path("%s-%s.nrrd" % (os.path.splitext(name)[0], mode))
+                    statistics = self.filtered(self.path(name), output, *options)
+                    for key in IMAGE_STATISTICS:
+                        self.assertEqual(statistics["statistics"][key], reference["statistics"][key], key)
+                    self.assertSameImages(output, self.path("reference.nrrd"))
+        before = sorted(os.listdir(self.dir))
+        for name in ("extra.nrrd", "extra.mha"):
+            for options in ([], ["--memory-limit", "512M"]):
+                with self.subTest(name=name, options=options):
+                    result = run(FILTER, self.path(name), self.path("out.nrrd"), "--isovalue", ISOVALUE, "--quiet",
+                                 *options)
+                    self.assertUsageError(result, name, "is inconsistent", "expected exactly as many")
+        self.assertEqual(sorted(os.listdir(self.dir)), before)
 
     def test_errors_are_one_line_and_write_nothing(self):
         source = self.phantom("16")

@@ -28,6 +28,8 @@
 
 #include "gtest/gtest.h"
 
+#include <zlib.h>
+
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -184,6 +186,30 @@ TEST(StreamedImageFiles, PlaneReaderReadsWhatITKWrites)
       ExpectSameImage(image, ReadWithPlaneReader(path));
     }
   }
+}
+
+TEST(StreamedImageFiles, PlaneReaderReadsGzipDataInSeveralMembers)
+{
+  // What pigz, bgzip (its last member empty) and concatenated gzip files hold.
+  const auto        image = MakeImage();
+  const std::string path = Scratch("members.nrrd").string();
+  {
+    std::ofstream header(path, std::ios::binary);
+    header << "NRRD0004\ntype: short\ndimension: 3\nsizes: 13 7 11\nendian: little\nencoding: gzip\n\n";
+  }
+  const auto * const voxels = reinterpret_cast<const char *>(image->GetBufferPointer());
+  const unsigned int bytes = 13 * 7 * 11 * sizeof(int16_t);
+  for (const auto & [start, count] :
+       { std::pair<unsigned int, unsigned int>{ 0, 501 }, { 501, bytes - 501 }, { 0, 0 } })
+  {
+    // Each gzopen in append mode writes a member of its own.
+    gzFile member = gzopen(path.c_str(), "ab");
+    ASSERT_NE(member, nullptr);
+    EXPECT_EQ(gzwrite(member, voxels + start, count), static_cast<int>(count));
+    EXPECT_EQ(gzclose(member), Z_OK);
+  }
+  const auto read = ReadWithPlaneReader(path);
+  EXPECT_TRUE(std::equal(voxels, voxels + bytes, reinterpret_cast<const char *>(read->GetBufferPointer())));
 }
 
 TEST(StreamedImageFiles, DamagedFilesAreRefused)
