@@ -400,6 +400,55 @@ public:
 private:
   posix_spawnattr_t m_Attributes;
 };
+
+/** The thread that waits for the termination signals. */
+pthread_t Waiter;
+
+/** SIGPIPE and SIGXFSZ are sent to the thread whose write failed, which sigwait() in another thread never sees:
+ * this handler passes them on to the waiting thread. */
+extern "C" void
+PassOnToWaiter(int received)
+{
+  pthread_kill(Waiter, received);
+}
+
+/** The signals that end a process by default and ask it to stop: sent by a user, a batch system's limits (CPU
+ * time, file size), or a failed write to a closed pipe. */
+sigset_t
+TerminationSignals()
+{
+  sigset_t signals;
+  sigemptyset(&signals);
+  for (const int candidate :
+       { SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU, SIGXFSZ })
+  {
+    // An ignored signal stays ignored (nohup): blocked, it would be delivered to the waiting thread.
+    struct sigaction current
+    {};
+    if (sigaction(candidate, nullptr, &current) == 0 && current.sa_handler != SIG_IGN)
+    {
+      sigaddset(&signals, candidate);
+    }
+  }
+  return signals;
+}
+
+[[noreturn]] void
+WaitForTermination(sigset_t signals)
+{
+  int received = 0;
+  while (sigwait(&signals, &received) != 0)
+  {}
+  RunTerminationActions();
+  std::signal(received, SIG_DFL);
+  sigset_t only;
+  sigemptyset(&only);
+  sigaddset(&only, received);
+  pthread_sigmask(SIG_UNBLOCK, &only, nullptr);
+  // The signal's default action ends the process; the exit is only for a signal that somehow does not.
+  raise(received);
+  _exit(128 + received);
+}
 } // namespace
 
 void
@@ -407,33 +456,37 @@ HandleTerminationSignals()
 {
   static std::once_flag once;
   std::call_once(once, [] {
-    sigset_t signals;
-    sigemptyset(&signals);
-    for (const int candidate : { SIGINT, SIGTERM, SIGHUP })
+    const sigset_t signals = TerminationSignals();
+    pthread_sigmask(SIG_BLOCK, &signals, &SignalMaskBefore);
+    try
     {
-      // An ignored signal stays ignored (nohup): blocked, it would be delivered to the waiting thread.
-      struct sigaction current
-      {};
-      if (sigaction(candidate, nullptr, &current) == 0 && current.sa_handler != SIG_IGN)
+      std::thread waiter(WaitForTermination, signals);
+      Waiter = waiter.native_handle();
+      waiter.detach();
+    }
+    catch (const std::system_error &)
+    {
+      pthread_sigmask(SIG_SETMASK, &SignalMaskBefore, nullptr);
+      throw;
+    }
+    SignalsBlocked = true;
+    // The signals sent to the thread that wrote are unblocked again here, and so in the threads started later.
+    sigset_t directed;
+    sigemptyset(&directed);
+    for (const int candidate : { SIGPIPE, SIGXFSZ })
+    {
+      if (sigismember(&signals, candidate) == 1)
       {
-        sigaddset(&signals, candidate);
+        struct sigaction passOn
+        {};
+        passOn.sa_handler = PassOnToWaiter;
+        sigemptyset(&passOn.sa_mask);
+        passOn.sa_flags = SA_RESTART;
+        sigaction(candidate, &passOn, nullptr);
+        sigaddset(&directed, candidate);
       }
     }
-    pthread_sigmask(SIG_BLOCK, &signals, &SignalMaskBefore);
-    SignalsBlocked = true;
-    std::thread([signals] {
-      int received = 0;
-      while (sigwait(&signals, &received) != 0)
-      {}
-      RunTerminationActions();
-      sigset_t only;
-      sigemptyset(&only);
-      sigaddset(&only, received);
-      pthread_sigmask(SIG_UNBLOCK, &only, nullptr);
-      // The signal's default action ends the process; the exit is only for a signal that somehow does not.
-      raise(received);
-      _exit(128 + received);
-    }).detach();
+    pthread_sigmask(SIG_UNBLOCK, &directed, nullptr);
   });
 }
 

@@ -51,12 +51,14 @@ PeakResidentBytes();
 std::uint64_t
 AvailableMemoryBytes();
 
-/** Makes the signals that ask a process to stop (SIGINT, SIGTERM and SIGHUP, those of them not ignored) run every
+/** Makes the signals that ask a process to stop (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM,
+ * SIGVTALRM, SIGXCPU, and SIGPIPE and SIGXFSZ of a failed write; those of them not ignored) run every
  * TerminationAction first; then the signal ends the process as it would have, so its exit status still says which
- * signal ended it. On POSIX systems a thread of its own waits for them, blocked in every other thread, so the
- * actions run as ordinary code: call this first in main, before any other thread starts (programs started with
- * RunProgram() and BackgroundProgram get the signals unblocked). Elsewhere a signal handler runs the actions
- * (SIGINT and SIGTERM). A second call does nothing. */
+ * signal ended it. On POSIX systems a thread of its own waits for them, blocked in every other thread (SIGPIPE and
+ * SIGXFSZ, which go to the thread that wrote, are passed on to it), so the actions run as ordinary code: call this
+ * first in main, before any other thread starts (programs started with RunProgram() and BackgroundProgram get the
+ * signals unblocked). Throws std::system_error when that thread cannot start. Elsewhere a signal handler runs the
+ * actions (SIGINT and SIGTERM). A second call does nothing. */
 void
 HandleTerminationSignals();
 

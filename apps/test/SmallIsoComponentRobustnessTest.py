@@ -396,12 +396,15 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         # Large enough that the tool is still at work when the signal comes.
         source = self.path("large.nrrd")
         write_nrrd(source, [200, 200, 200], noise(2 * 200 ** 3))
-        for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2,
+                       signal.SIGALRM, signal.SIGXCPU):
             with self.subTest(signal=number.name):
                 outputs = [self.path("out.nrrd"), self.path("mask.nrrd"), self.path("stats.json")]
+                # No core file for SIGQUIT and SIGXCPU, whose default action dumps one.
                 process = subprocess.Popen([FILTER, source, outputs[0], "--isovalue", "0", "--removed-mask",
                                             outputs[1], "--stats", outputs[2], "--quiet"],
-                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=self.dir,
+                                           preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_CORE, (0, 0)))
                 deadline = time.monotonic() + 60
                 while len(self.staging_leftovers(self.dir)) < 3 and process.poll() is None:
                     self.assertLess(time.monotonic(), deadline, "the staging directories never appeared")
@@ -409,6 +412,26 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                 process.send_signal(number)
                 _, stderr = process.communicate(timeout=120)
                 self.assertEqual(process.returncode, -number, stderr.decode(errors="replace"))
+                self.assertEqual(self.staging_leftovers(self.dir), [])
+                for output in outputs:
+                    self.assertFalse(os.path.exists(output), output)
+
+    def test_a_closed_standard_output_removes_staged_outputs(self):
+        """A reader of the progress that goes away (| head) ends the tool with SIGPIPE, which comes to the thread
+        that wrote: the staged outputs are removed first, streamed or in memory."""
+        source = self.path("large.nrrd")
+        write_nrrd(source, [128, 128, 128], noise(2 * 128 ** 3))
+        for options in ([], ["--memory-limit", "96M"]):
+            with self.subTest(options=options):
+                outputs = [self.path("out.mha"), self.path("mask.mha"), self.path("stats.json")]
+                process = subprocess.Popen([FILTER, source, outputs[0], "--isovalue", "0", "--removed-mask",
+                                            outputs[1], "--stats", outputs[2], "--progress-xml", *options],
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                for _ in range(2):
+                    process.stdout.readline()
+                process.stdout.close()
+                _, stderr = process.communicate(timeout=120)
+                self.assertEqual(process.returncode, -signal.SIGPIPE, stderr.decode(errors="replace"))
                 self.assertEqual(self.staging_leftovers(self.dir), [])
                 for output in outputs:
                     self.assertFalse(os.path.exists(output), output)
