@@ -92,6 +92,11 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   {
     reader->Update();
   }
+  catch (const itk::MemoryAllocationError &)
+  {
+    // Not a fault of the file: out of memory is a failure of the run.
+    throw;
+  }
   catch (const itk::ExceptionObject & error)
   {
     throw ToolError("cannot read " + what + " '" + path + "': " + ItkErrorText(error.GetDescription()));
@@ -135,6 +140,10 @@ WriteImage(const TImage *      image,
   try
   {
     writer->Update();
+  }
+  catch (const itk::MemoryAllocationError &)
+  {
+    throw;
   }
   catch (const itk::ExceptionObject & error)
   {

@@ -21,11 +21,14 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdio>
+#include <exception>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 
@@ -92,6 +95,36 @@ RunTerminationActions()
   }
 }
 
+/** The tool that OnTerminate() names. */
+std::string TerminatingTool;
+
+[[noreturn]] void
+OnTerminate()
+{
+  RunTerminationActions();
+  std::string what = "out of memory or address space: a library could not go on (std::terminate)";
+  if (const std::exception_ptr error = std::current_exception())
+  {
+    try
+    {
+      std::rethrow_exception(error);
+    }
+    catch (const std::bad_alloc &)
+    {
+      what = "out of memory";
+    }
+    catch (const std::exception & exception)
+    {
+      what = OneLine(exception.what());
+    }
+    catch (...)
+    {}
+  }
+  std::fprintf(stderr, "%s: %s\n", TerminatingTool.c_str(), what.c_str());
+  std::fflush(stderr);
+  std::_Exit(ExitFailure);
+}
+
 bool
 IsProgram(const fs::path & path)
 {
@@ -103,6 +136,13 @@ IsProgram(const fs::path & path)
 #endif
 }
 } // namespace
+
+void
+HandleTerminate(const std::string & toolName)
+{
+  TerminatingTool = toolName;
+  std::set_terminate(OnTerminate);
+}
 
 TerminationAction::TerminationAction(std::function<void()> action)
 {

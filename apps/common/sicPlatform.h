@@ -62,6 +62,12 @@ AvailableMemoryBytes();
 void
 HandleTerminationSignals();
 
+/** Makes std::terminate() (a library that gives up, e.g. ITK's thread pool when one of its threads cannot start)
+ * run every TerminationAction, print one line prefixed with \a toolName and end the process with status 1 (out of
+ * memory, or the exception's message where there is one) instead of aborting. */
+void
+HandleTerminate(const std::string & toolName);
+
 /** What to undo when a termination signal ends the process (see HandleTerminationSignals()), from construction
  * to destruction; destruction waits for the action when it is running. The action runs on another thread: it
  * must lock what it shares with the rest of the program, and must not throw. */

@@ -23,21 +23,25 @@
 #include "itkMacro.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <new>
+#include <system_error>
 
 namespace sic
 {
-int
-ToolMain(const ToolDescription &                               tool,
-         int                                                   argc,
-         char *                                                argv[],
-         const std::function<int(const ParsedCommandLine &)> & run)
+namespace
 {
-  // Before any thread starts: a termination signal then removes the staged outputs first.
-  HandleTerminationSignals();
+int
+RunTool(const ToolDescription &                               tool,
+        int                                                   argc,
+        char *                                                argv[],
+        const std::function<int(const ParsedCommandLine &)> & run)
+{
   try
   {
+    // Before any thread starts: a termination signal then removes the staged outputs first.
+    HandleTerminationSignals();
     const ParsedCommandLine arguments = ParseCommandLine(tool, argc, argv);
     if (arguments.Has("--help"))
     {
@@ -58,6 +62,11 @@ ToolMain(const ToolDescription &                               tool,
     std::cerr << tool.Name << ": " << error.what() << std::endl;
     return ExitUsage;
   }
+  catch (const itk::MemoryAllocationError &)
+  {
+    std::cerr << tool.Name << ": out of memory" << std::endl;
+    return ExitFailure;
+  }
   catch (const itk::ExceptionObject & error)
   {
     std::cerr << tool.Name << ": " << ItkErrorText(error.GetDescription()) << std::endl;
@@ -68,10 +77,38 @@ ToolMain(const ToolDescription &                               tool,
     std::cerr << tool.Name << ": out of memory" << std::endl;
     return ExitFailure;
   }
+  catch (const std::system_error & error)
+  {
+    // EAGAIN is what std::thread throws when a thread cannot start (no memory or address space for its stack).
+    const bool thread = error.code() == std::errc::resource_unavailable_try_again;
+    std::cerr << tool.Name << ": " << (thread ? "cannot start a thread (out of memory or address space): " : "")
+              << OneLine(error.what()) << std::endl;
+    return ExitFailure;
+  }
   catch (const std::exception & error)
   {
     std::cerr << tool.Name << ": " << OneLine(error.what()) << std::endl;
     return ExitFailure;
   }
+}
+} // namespace
+
+int
+ToolMain(const ToolDescription &                               tool,
+         int                                                   argc,
+         char *                                                argv[],
+         const std::function<int(const ParsedCommandLine &)> & run)
+{
+  HandleTerminate(tool.Name);
+  const int status = RunTool(tool, argc, argv, run);
+  if (status != ExitSuccess)
+  {
+    // A failure can leave ITK's singletons half made (a thread pool whose threads could not all start), and
+    // destroying them would crash: a failed run ends without the static destructors. Its outputs are gone already.
+    std::cout.flush();
+    std::cerr.flush();
+    std::_Exit(status);
+  }
+  return status;
 }
 } // namespace sic

@@ -25,6 +25,7 @@ from sic_tool_test import ToolTestCase, digest, noise, run, write_nrrd
 FILTER = os.environ.get("SIC_FILTER", "")
 REPORT = os.environ.get("SIC_REPORT", "")
 PROBE = os.environ.get("SIC_PROBE", "")
+PHANTOM = os.environ.get("SIC_PHANTOM", "")
 # The probe's test images: isovalue 50 separates background from object.
 TEST_ISOVALUE = "50"
 
@@ -435,6 +436,39 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                 self.assertEqual(self.staging_leftovers(self.dir), [])
                 for output in outputs:
                     self.assertFalse(os.path.exists(output), output)
+
+    def test_address_space_limits_fail_with_one_line_and_leave_nothing(self):
+        """Under an address-space limit (ulimit -v, as batch systems set), at every point where the run can run out
+        (the signal thread, ITK's thread pool, the image, the window): success, or status 1 with one line."""
+        source = self.path("phantom.nrrd")
+        self.check(run(PHANTOM, source, "--size", "96"))
+        self.check(run(FILTER, source, self.path("reference.nrrd"), "--isovalue", "150", "--quiet"))
+
+        def limited(megabytes):
+            def limit():
+                resource.setrlimit(resource.RLIMIT_AS, (megabytes << 20, megabytes << 20))
+                resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+            return limit
+
+        # Below this limit the dynamic loader fails, before any of the tool's code runs.
+        start = 16
+        while subprocess.run([FILTER, "--help"], capture_output=True, preexec_fn=limited(start)).returncode != 0:
+            start += 4
+            self.assertLess(start, 4096, "the tool never started")
+        output = self.path("out.nrrd")
+        for megabytes in range(start, start + 64, 4):
+            for options in ([], ["--memory-limit", "96M"]):
+                with self.subTest(megabytes=megabytes, options=options):
+                    result = subprocess.run([FILTER, source, output, "--isovalue", "150", "--quiet", *options],
+                                            capture_output=True, text=True, preexec_fn=limited(megabytes))
+                    self.assertEqual(self.staging_leftovers(self.dir), [])
+                    if result.returncode == 0:
+                        self.check(run(PROBE, "equal", output, self.path("reference.nrrd")))
+                        os.remove(output)
+                        continue
+                    self.assertEqual(result.returncode, 1, result.stderr)
+                    self.assertEqual(len(result.stderr.splitlines()), 1, result.stderr)
+                    self.assertFalse(os.path.exists(output))
 
     # 6. An empty image is refused by both tools.
 
