@@ -16,12 +16,14 @@
  *
  *=========================================================================*/
 #include "sicStreamedFilter.h"
+#include "sicPlatform.h"
 #include "sicScalarImageDispatch.h"
 #include "sicToolError.h"
 
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -219,26 +221,86 @@ StreamingWorkUnits(const FilterSettings & settings)
   return NewThreader(settings)->GetNumberOfWorkUnits();
 }
 
+namespace
+{
+/** The most memory a scanline run takes in the window, with the allocator's slack: its run, component, fate,
+ * candidate and summary entries when it is a component of its own, and the repairs of its voxels. Measured on
+ * the densest data there is, a checkerboard (every voxel a run and a component). */
+constexpr std::uint64_t BytesPerRun = 128;
+
+/** What a streamed run adds to the process beside its window: its threads' stacks, the readers' and writers'
+ * buffers (zlib's included). */
+constexpr std::uint64_t RunOverheadBytes = std::uint64_t{ 8 } << 20;
+
+template <typename TPixel>
+std::uint64_t
+MostRuns(PlaneReader & input, double isoValue)
+{
+  const VolumeGeometry & geometry = input.GetGeometry();
+  const std::uint64_t    lineVoxels = geometry.Size[0];
+  std::vector<TPixel>    plane(geometry.PlaneVoxels());
+  std::uint64_t          most = 0;
+  for (std::uint64_t z = 0; z < geometry.Planes(); ++z)
+  {
+    input.Read(plane.data(), 1);
+    std::uint64_t runs = 0;
+    for (std::uint64_t start = 0; start < plane.size(); start += lineVoxels)
+    {
+      // NaN is below, as in the filter.
+      bool above = static_cast<double>(plane[start]) >= isoValue;
+      ++runs;
+      for (std::uint64_t x = start + 1; x < start + lineVoxels; ++x)
+      {
+        const bool next = static_cast<double>(plane[x]) >= isoValue;
+        runs += next != above;
+        above = next;
+      }
+    }
+    most = std::max(most, runs);
+  }
+  input.Finish();
+  return most;
+}
+} // namespace
+
+std::uint64_t
+MostRunsInAPlane(const std::string & path, double isoValue)
+{
+  PlaneReader input(path, "input");
+  return DispatchPixelType(
+    input.GetGeometry().ComponentType,
+    [&](auto pixel) { return MostRuns<typename decltype(pixel)::PixelType>(input, isoValue); },
+    [&] {
+      return ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +
+                       " is not supported; expected one of " + SupportedPixelTypes());
+    });
+}
+
+std::uint64_t
+StreamingProcessBytes()
+{
+  return PeakResidentBytes() + RunOverheadBytes;
+}
+
 std::uint64_t
 StreamingWorkingBytes(const VolumeGeometry & geometry,
+                      std::uint64_t          runsPerPlane,
                       std::uint64_t          maximumSize,
                       std::uint64_t          slabPlanes,
                       unsigned int           workUnits)
 {
   const uint64_t planeVoxels = geometry.PlaneVoxels();
   const uint64_t window =
-    itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes, workUnits);
-  // Per plane held: its voxels, and its run labelling (runs, components, their fates) at about a byte a
-  // voxel, which is what smooth and moderately noisy volumes take (a run every eight voxels or
-  // fewer); then the face layers of the three summaries a merge holds (8 bytes a run, so a byte a
-  // voxel at that density), the slab being read and the plane being written. Denser data (noise at
-  // every voxel) take more: the run reports its peak.
-  const uint64_t perPlane = planeVoxels * (geometry.PixelBytes() + 1);
-  return window * perPlane + 3 * planeVoxels + (slabPlanes + 1) * planeVoxels * geometry.PixelBytes() + planeVoxels * 2;
+    std::min(itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes, workUnits),
+             geometry.Planes());
+  const uint64_t perPlane = planeVoxels * geometry.PixelBytes() + runsPerPlane * BytesPerRun;
+  // Beside the window: the slab being read (twice: read, and taken by the sweep) and the planes being written.
+  return window * perPlane + 2 * slabPlanes * planeVoxels * geometry.PixelBytes() + 2 * planeVoxels * 2;
 }
 
 std::uint64_t
 SlabPlanesForBudget(const VolumeGeometry & geometry,
+                    std::uint64_t          runsPerPlane,
                     std::uint64_t          maximumSize,
                     std::uint64_t          budget,
                     unsigned int           workUnits)
@@ -246,7 +308,7 @@ SlabPlanesForBudget(const VolumeGeometry & geometry,
   uint64_t best = 0;
   for (uint64_t planes = 1; planes <= geometry.Planes(); planes = planes < 8 ? planes + 1 : planes + planes / 4)
   {
-    if (StreamingWorkingBytes(geometry, maximumSize, planes, workUnits) > budget)
+    if (StreamingWorkingBytes(geometry, runsPerPlane, maximumSize, planes, workUnits) > budget)
     {
       break;
     }

@@ -36,12 +36,24 @@ ParseByteCount(const std::string & text, const std::string & option);
 unsigned int
 StreamingWorkUnits(const FilterSettings & settings);
 
-/** The bytes of memory the streaming mode holds for an image of \a geometry with slabs of
- * \a slabPlanes planes, components of at most \a maximumSize voxels and \a workUnits work units:
- * the input planes of the window, their run labelling at about a byte a voxel (a run every eight
- * voxels or fewer), the summaries' face layers and the planes being read and written. */
+/** The most scanline runs (maximal runs of voxels along the first axis on one side of \a isoValue) in
+ * any plane of the image \a path, read through once; its labelling's memory grows with them. */
+std::uint64_t
+MostRunsInAPlane(const std::string & path, double isoValue);
+
+/** The bytes the process holds beside the window of planes while it streams: what it holds now (libraries, the
+ * tool) and what a run adds (its threads' stacks, the readers' and writers' buffers). */
+std::uint64_t
+StreamingProcessBytes();
+
+/** The bytes of memory the streaming mode holds for an image of \a geometry with at most \a runsPerPlane
+ * scanline runs in a plane, slabs of \a slabPlanes planes, components of at most \a maximumSize voxels and
+ * \a workUnits work units: the planes of the window (never more than the image's), their voxels and the
+ * labelling of their runs as if every run were a component of its own, removed and repaired (the most a run
+ * can take), and the planes being read and written. */
 std::uint64_t
 StreamingWorkingBytes(const VolumeGeometry & geometry,
+                      std::uint64_t          runsPerPlane,
                       std::uint64_t          maximumSize,
                       std::uint64_t          slabPlanes,
                       unsigned int           workUnits);
@@ -50,6 +62,7 @@ StreamingWorkingBytes(const VolumeGeometry & geometry,
  * \a budget bytes, or 0 when even slabs of one plane do not fit. */
 std::uint64_t
 SlabPlanesForBudget(const VolumeGeometry & geometry,
+                    std::uint64_t          runsPerPlane,
                     std::uint64_t          maximumSize,
                     std::uint64_t          budget,
                     unsigned int           workUnits);

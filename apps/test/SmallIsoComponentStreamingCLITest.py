@@ -11,6 +11,8 @@ SIC_SCRATCH, SIC_SANITIZER (the sanitizer the tools were built with, if any).
 import gzip
 import json
 import os
+import re
+import subprocess
 import sys
 import unittest
 import zlib
@@ -97,6 +99,77 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
         for key in ("read_seconds", "write_seconds"):
             self.assertGreaterEqual(streamed["statistics"][key], 0.0)
+
+    def measured_run(self, *arguments):
+        """Runs a tool; returns its exit status, its stderr and its own peak resident memory in bytes (measured)."""
+        with open(self.path("stderr.txt"), "w+") as stderr:
+            process = subprocess.Popen([str(a) for a in arguments], stdout=subprocess.DEVNULL, stderr=stderr)
+            _, status, usage = os.wait4(process.pid, 0)
+            process.returncode = os.waitstatus_to_exitcode(status)
+            stderr.seek(0)
+            return process.returncode, stderr.read(), usage.ru_maxrss * 1024
+
+    def assertWithinLimitOrRefused(self, source, limit, *options, slack=1.1):
+        """Streams source under limit (a MiB count): the run's measured peak stays within slack times the limit, or
+        the tool refuses at once, and then the memory it says it needs is enough."""
+        output = self.path("out.mha")
+        arguments = [FILTER, source, output, "--isovalue", "128", "--quiet", *options]
+        status, stderr, peak = self.measured_run(*arguments, "--memory-limit", "%dM" % limit)
+        if status == USAGE_ERROR:
+            self.assertEqual(len(stderr.splitlines()), 1, stderr)
+            needed = re.search(r"needs about (\d+) MiB", stderr)
+            self.assertIsNotNone(needed, stderr)
+            self.assertFalse(os.path.exists(output))
+            self.assertGreater(int(needed.group(1)), limit, stderr)
+            limit = int(needed.group(1))
+            status, stderr, peak = self.measured_run(*arguments, "--memory-limit", "%dM" % limit)
+        self.assertEqual(status, 0, stderr)
+        self.assertLessEqual(peak, slack * (limit << 20), "peak %.1f MiB, limit %d MiB" % (peak / 2 ** 20, limit))
+        os.remove(output)
+
+    def test_noisy_volumes_stay_within_the_limit(self):
+        """Noise and a checkerboard (every voxel a run and a component of its own) have far more scanline runs
+        than smooth volumes: the plan counts them."""
+        self.skip_unless_memory_is_measurable()
+        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 128 256 %d\nendian: little\nencoding: raw\n\n"
+        with open(self.path("noise.nrrd"), "wb") as file:
+            file.write((header % 256).encode() + noise(128 * 256 * 256))
+        line, other = bytes([0, 200]) * 64, bytes([200, 0]) * 64
+        planes = (line + other) * 128 + (other + line) * 128
+        with open(self.path("checker.nrrd"), "wb") as file:
+            file.write((header % 32).encode() + planes * 16)
+        for name in ("noise.nrrd", "checker.nrrd"):
+            for limit in (48, 64):
+                with self.subTest(name=name, limit=limit):
+                    self.assertWithinLimitOrRefused(self.path(name), limit, "--max-size", "2", "--threads", "1")
+
+    def test_the_window_is_never_deeper_than_the_image(self):
+        """A K far larger than the image's depth needs no more than the whole image's planes."""
+        self.skip_unless_memory_is_measurable()
+        source = self.phantom("96")
+        self.check(run(FILTER, source, self.path("memory.nrrd"), "--isovalue", ISOVALUE, "--max-size", "100000",
+                       "--quiet"))
+        status, stderr, peak = self.measured_run(FILTER, source, self.path("streamed.nrrd"), "--isovalue", ISOVALUE,
+                                                 "--max-size", "100000", "--quiet", "--memory-limit", "256M")
+        self.assertEqual(status, 0, stderr)
+        self.assertLessEqual(peak, 256 << 20)
+        self.assertSameImages(self.path("streamed.nrrd"), self.path("memory.nrrd"))
+
+    def test_limits_near_the_process_size_are_kept_or_refused(self):
+        """The process itself (libraries, buffers, threads) holds tens of MiB: a limit near that size is either
+        kept, measured, or refused saying what the process itself needs."""
+        self.skip_unless_memory_is_measurable()
+        source = self.phantom("96")
+        for limit in range(32, 64, 4):
+            with self.subTest(limit=limit):
+                status, stderr, peak = self.measured_run(FILTER, source, self.path("out.mha"), "--isovalue",
+                                                         ISOVALUE, "--memory-limit", "%dM" % limit)
+                if status == USAGE_ERROR:
+                    self.assertEqual(len(stderr.splitlines()), 1, stderr)
+                    self.assertIn("the process itself", stderr)
+                    continue
+                self.assertEqual(status, 0, stderr)
+                self.assertLessEqual(peak, limit << 20, "peak %.1f MiB" % (peak / 2 ** 20))
 
     def test_two_dimensional_images_stream_by_lines(self):
         self.check(run(PROBE, "make", self.path("flat.mha"), "int16", "2"))
