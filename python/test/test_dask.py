@@ -139,6 +139,10 @@ def test_max_volume_gives_the_in_memory_k():
     output, stats = dask.compute(output, stats, scheduler="synchronous")
     assert stats["effective_max_size"] == expected_stats["effective_max_size"] == 5
     assert same_bits(output, expected) and stats == without_memory(expected_stats)
+    # Without a spacing, one unit per axis, as in memory.
+    output = smalliso.dask.remove_small_components(da.from_array(volume, chunks=4), isovalue, max_volume=7.5)
+    assert same_bits(output.compute(scheduler="synchronous"),
+                     smalliso.remove_small_components(volume, isovalue, max_volume=7.5))
 
 
 def test_the_result_keeps_the_chunks_and_no_task_holds_more_than_two_summaries():

@@ -116,8 +116,9 @@ def effective_max_size(max_size, max_volume, spacing, ndim):
     own rule, asked on a one-voxel image)."""
     if max_volume is None:
         return max_size
-    _, stats = _remove_in_memory(np.zeros((1,) * ndim, np.uint8), 0.0, max_volume=max_volume, spacing=spacing,
-                                 return_stats=True)
+    # An empty spacing is none given: one unit per axis.
+    _, stats = _remove_in_memory(np.zeros((1,) * ndim, np.uint8), 0.0, max_volume=max_volume,
+                                 spacing=spacing or None, return_stats=True)
     return stats["effective_max_size"]
 
 
