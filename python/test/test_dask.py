@@ -196,12 +196,18 @@ def test_each_chunk_is_filtered_once_when_the_parts_are_computed_together(monkey
     (dict(chunks=0), ValueError, "chunks is 0.*expected positive chunk edges"),
     (dict(chunks=(2, 0)), ValueError, r"chunks is \(2, 0\).*expected positive chunk edges"),
     (dict(chunks=-1.5), ValueError, "chunks is -1.5"),
+    (dict(chunks=(2, float("nan"))), ValueError, r"chunks is \(2, nan\).*expected positive chunk edges"),
+    (dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2)[da.arange(4, chunks=2) > 0], chunks=2), ValueError,
+     "unknown chunk sizes"),
 ])
 def test_bad_arguments_give_clear_errors(arguments, error, message):
     call = dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2), isovalue=1.0)
     call.update(arguments)
     with pytest.raises(error, match=message):
         smalliso.dask.remove_small_components(**call)
+    with pytest.raises(error) as raised:
+        smalliso.dask.remove_small_components(**call)
+    assert "\n" not in str(raised.value)
 
 
 @pytest.mark.parametrize("chunks", [0, (2, 0), ((2, 1), (5,))])

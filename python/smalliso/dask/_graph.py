@@ -166,6 +166,8 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         source = _StoredInput(array, _task_chunks(chunks, array))
     else:
         array = da.asarray(array)
+        if any(np.isnan(extent) for extents in array.chunks for extent in extents):
+            raise ValueError("the Dask array has unknown chunk sizes; call array.compute_chunk_sizes() first")
         source = _DaskInput(array if chunks is None else array.rechunk(_task_chunks(chunks, array)))
     dtype = _arguments.check_dtype(source.dtype)
     shape = _arguments.check_shape(source.shape)
@@ -221,8 +223,9 @@ def _task_chunks(chunks, array):
     try:
         normalized = normalize_chunks(chunks, array.shape, dtype=array.dtype)
     except (ValueError, TypeError, ZeroDivisionError) as error:
+        # Dask's message can run to several lines; its first says what is wrong.
         raise ValueError(f"chunks is {chunks!r}, which does not describe chunks of the array of shape "
-                         f"{tuple(array.shape)} ({error}); expected positive chunk edges") from None
+                         f"{tuple(array.shape)} ({str(error).splitlines()[0]}); expected positive chunk edges") from None
     if 0 not in array.shape and any(not extent >= 1 for extents in normalized for extent in extents):
         raise ValueError(f"chunks is {chunks!r}; expected chunk edges of at least one voxel, one per axis of the "
                          f"array of shape {tuple(array.shape)}")
@@ -246,8 +249,6 @@ class _DaskInput:
     """A Dask array as the input: each box is put together from pieces of the chunks it overlaps."""
 
     def __init__(self, array):
-        if any(np.isnan(extent) for extents in array.chunks for extent in extents):
-            raise ValueError("the Dask array has unknown chunk sizes; call array.compute_chunk_sizes() first")
         self.name = array.name
         self.dtype = array.dtype
         self.shape = array.shape
