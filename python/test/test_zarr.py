@@ -206,17 +206,40 @@ def test_the_command_replaces_an_earlier_output_of_its_own(tmp_path, monkeypatch
     ("plain file", "'in.zarr' is not a Zarr array (expected the directory of one array)"),
     ("corrupt metadata", "'in.zarr' is not a readable Zarr array: its metadata 'in.zarr/.zarray' is invalid"),
     ("no metadata", "'in.zarr' is not a Zarr array (expected the directory of one array)"),
+    ("metadata list", "'in.zarr' is not a readable Zarr array: its metadata 'in.zarr/.zarray' is invalid"),
+    ("metadata of another format", "its metadata 'in.zarr/.zarray' is invalid (unsupported zarr format: 3)"),
+    ("chunk edge 0", "its metadata 'in.zarr/.zarray' gives shape [3, 4] and chunks [0, 2]; expected whole numbers"),
+    ("chunk edge 1.5", "gives shape [3, 4] and chunks [1.5, 2]; expected whole numbers"),
+    ("negative extent", "gives shape [3, -4] and chunks [2, 2]; expected whole numbers"),
+    ("chunks of another dimension", "gives shape [3, 4] and chunks [2]; expected whole numbers"),
+    ("corrupt attributes", "its attributes 'in.zarr/.zattrs' are invalid"),
+    ("attributes list", "its attributes 'in.zarr/.zattrs' are invalid ([1]); expected a JSON object"),
+    ("0-D", "the array is 0-D (shape ()); expected a 2-D or 3-D array"),
 ])
 def test_the_command_names_an_unreadable_input(tmp_path, monkeypatch, capsys, setup, message):
     monkeypatch.chdir(tmp_path)
     if setup == "plain file":
         (tmp_path / "in.zarr").write_bytes(b"\x00" * 64)
+    elif setup == "0-D":
+        zarr.save_array("in.zarr", np.float32(1))
     else:
         save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))
+        metadata = tmp_path / "in.zarr" / ".zarray"
+        changes = {"metadata of another format": {"zarr_format": 3}, "chunk edge 0": {"chunks": [0, 2]},
+                   "chunk edge 1.5": {"chunks": [1.5, 2]}, "negative extent": {"shape": [3, -4]},
+                   "chunks of another dimension": {"chunks": [2]}}
         if setup == "corrupt metadata":
-            (tmp_path / "in.zarr" / ".zarray").write_text('{"chunks": [2, 2], "dtype": ')
+            metadata.write_text('{"chunks": [2, 2], "dtype": ')
+        elif setup == "no metadata":
+            metadata.unlink()
+        elif setup == "metadata list":
+            metadata.write_text("[]")
+        elif setup == "corrupt attributes":
+            (tmp_path / "in.zarr" / ".zattrs").write_text("{")
+        elif setup == "attributes list":
+            (tmp_path / "in.zarr" / ".zattrs").write_text("[1]")
         else:
-            (tmp_path / "in.zarr" / ".zarray").unlink()
+            metadata.write_text(json.dumps({**json.loads(metadata.read_text()), **changes[setup]}))
     status = command.main(["in.zarr", "out.zarr", "--isovalue", "1"])
     stderr = capsys.readouterr().err
     assert status == 2 and stderr.count("\n") == 1 and message in stderr and "%r" not in stderr, stderr
@@ -236,6 +259,25 @@ def test_the_command_says_which_chunks_the_input_lacks(tmp_path, monkeypatch, ca
     sparse = volume.copy()
     sparse[3:, :3, 3:] = 0
     assert same_bits(zarr.open_array("out.zarr", mode="r")[...], smalliso.remove_small_components(sparse, isovalue))
+
+
+@pytest.mark.parametrize("layout", ["nested", "a directory for a chunk", "a chunk outside the array"])
+def test_the_command_counts_the_stored_chunks_as_files(tmp_path, monkeypatch, capsys, layout):
+    volume, isovalue = random_volume(np.random.default_rng(7), "int16", (6, 6, 6))
+    zarr.save_array(str(tmp_path / "in.zarr"), volume, chunks=(3, 3, 3),
+                    dimension_separator="/" if layout == "nested" else ".")
+    expected = 0
+    if layout == "a directory for a chunk":
+        (tmp_path / "in.zarr" / "1.0.1").unlink()
+        (tmp_path / "in.zarr" / "1.0.1").mkdir()
+        expected = 1
+    elif layout == "a chunk outside the array":
+        (tmp_path / "in.zarr" / "2.0.0").write_bytes((tmp_path / "in.zarr" / "0.0.0").read_bytes())
+    monkeypatch.chdir(tmp_path)
+    assert command.main(["in.zarr", "out.zarr", "--isovalue", str(isovalue), "--stats", "s.json", "--quiet"]) == 0
+    assert ("not stored" in capsys.readouterr().err) == (expected > 0)
+    with open("s.json") as stream:
+        assert json.load(stream)["input"]["missing_chunks"] == expected
 
 
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])

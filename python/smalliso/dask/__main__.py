@@ -15,7 +15,7 @@ from dask.array.core import normalize_chunks
 
 import smalliso
 
-from ._zarr import check_paths, open_input, remove_small_components_zarr
+from ._zarr import check_paths, open_input, remove_small_components_zarr, stored_chunks
 
 TOOL = "smalliso.dask"
 LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -186,7 +186,7 @@ def main(argv=None):
     try:
         check_paths(arguments.input, outputs, [arguments.stats] if arguments.stats is not None else [])
         stored = open_input(arguments.input)
-        missing = stored.nchunks - stored.nchunks_initialized
+        missing = stored.nchunks - stored_chunks(arguments.input, stored)
         if missing:
             print(f"{TOOL}: note: {missing} of the {stored.nchunks} chunks of {arguments.input!r} are not stored; "
                   f"Zarr reads them as the fill value {stored.fill_value}", file=sys.stderr)

@@ -12,6 +12,7 @@ import dask
 import dask.array as da
 import zarr
 
+from .. import _arguments
 from ._graph import remove_small_components
 
 # The names a Zarr array's directory holds: its metadata, and chunk keys ("0.1.2", or "0/1/2"
@@ -85,17 +86,50 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
 
 
 def open_input(source):
-    """The Zarr array at ``source``, read-only, or a ValueError saying why it cannot be read."""
+    """The Zarr array at ``source``, read-only, or a ValueError saying why it cannot be read or
+    filtered."""
     not_an_array = ValueError(f"{source!r} is not a Zarr array (expected the directory of one array)")
     if not os.path.isdir(source):
         raise not_an_array
+    metadata = os.path.join(source, ".zarray")
     try:
-        return zarr.open_array(source, mode="r")
+        stored = zarr.open_array(source, mode="r")
     except (zarr.errors.ArrayNotFoundError, zarr.errors.ContainsGroupError, FileNotFoundError, NotADirectoryError):
         raise not_an_array from None
-    except (ValueError, KeyError, TypeError) as error:
-        raise ValueError(f"{source!r} is not a readable Zarr array: its metadata "
-                         f"{os.path.join(source, '.zarray')!r} is invalid ({error})") from None
+    except Exception as error:
+        # Zarr decodes the metadata without checking its types: a wrong one fails anywhere.
+        raise ValueError(f"{source!r} is not a readable Zarr array: its metadata {metadata!r} is invalid "
+                         f"({error})") from None
+    shape, chunks = stored.shape, stored.chunks
+    if not (len(chunks) == len(shape) and all(type(n) is int and n >= 0 for n in shape)
+            and all(type(n) is int and n >= 1 for n in chunks)):
+        raise ValueError(f"{source!r} is not a readable Zarr array: its metadata {metadata!r} gives shape "
+                         f"{list(shape)} and chunks {list(chunks)}; expected whole numbers, one shape extent >= 0 "
+                         "and one chunk edge >= 1 per axis")
+    try:
+        attributes = stored.attrs.asdict()
+    except Exception as error:
+        attributes = error
+    if not isinstance(attributes, dict):
+        raise ValueError(f"{source!r} is not a readable Zarr array: its attributes "
+                         f"{os.path.join(source, '.zattrs')!r} are invalid ({attributes!r}); expected a JSON object")
+    _arguments.check_dtype(stored.dtype)
+    _arguments.check_shape(shape)
+    return stored
+
+
+def stored_chunks(source, stored):
+    """How many of the chunks of the Zarr array ``stored`` at ``source`` are stored, as files
+    (Zarr's own count sees only the top level of nested chunk directories, and counts any name)."""
+    grid = [-(-extent // edge) for extent, edge in zip(stored.shape, stored.chunks)]
+    count = 0
+    for directory, _, files in os.walk(source):
+        for name in files:
+            key = os.path.relpath(os.path.join(directory, name), source).replace(os.sep, ".")
+            indices = key.split(".")
+            if len(indices) == len(grid) and all(i.isdigit() and int(i) < n for i, n in zip(indices, grid)):
+                count += 1
+    return count
 
 
 def check_paths(source, outputs, files=()):
