@@ -11,6 +11,7 @@ import sys
 import time
 
 import dask
+import numcodecs
 import numpy as np
 import pytest
 import zarr
@@ -259,6 +260,26 @@ def test_the_command_says_which_chunks_the_input_lacks(tmp_path, monkeypatch, ca
     sparse = volume.copy()
     sparse[3:, :3, 3:] = 0
     assert same_bits(zarr.open_array("out.zarr", mode="r")[...], smalliso.remove_small_components(sparse, isovalue))
+
+
+@pytest.mark.parametrize("compressor, damage, message", [
+    (numcodecs.Blosc(), "truncate", "(it holds 20 bytes, its Blosc header gives"),
+    (numcodecs.Blosc(), "garbage", "(it holds 7 bytes, fewer than a Blosc header's 16)"),
+    (numcodecs.Zlib(), "garbage", "(error: Error -3 while decompressing data"),
+    (None, "truncate", "(ValueError: cannot reshape array of size 5 into shape (3,3,3))"),
+])
+def test_the_command_names_a_chunk_it_cannot_read(tmp_path, monkeypatch, capsys, compressor, damage, message):
+    volume, isovalue = random_volume(np.random.default_rng(8), "float32", (6, 6, 6))
+    zarr.save_array(str(tmp_path / "in.zarr"), volume, chunks=(3, 3, 3), compressor=compressor,
+                    dimension_separator="/")
+    chunk = tmp_path / "in.zarr" / "1" / "0" / "1"
+    chunk.write_bytes(chunk.read_bytes()[:20] if damage == "truncate" else b"garbage")
+    monkeypatch.chdir(tmp_path)
+    assert command.main(["in.zarr", "out.zarr", "--isovalue", str(isovalue), "--quiet"]) == 2
+    stderr = capsys.readouterr().err
+    assert stderr.count("\n") == 1 and "the chunk 'in.zarr/1/0/1' of the Zarr array 'in.zarr' cannot be read " \
+        + message in stderr and "; expected " in stderr, stderr
+    assert not (tmp_path / "out.zarr").exists() and leftovers(tmp_path) == []
 
 
 @pytest.mark.parametrize("layout", ["nested", "a directory for a chunk", "a chunk outside the array"])

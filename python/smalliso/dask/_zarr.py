@@ -1,6 +1,7 @@
 """Zarr in, Zarr out: a Zarr array filtered chunk by chunk into a new one, which appears only when
 it is complete."""
 
+import itertools
 import os
 import re
 import shutil
@@ -10,7 +11,9 @@ import threading
 
 import dask
 import dask.array as da
+import numcodecs
 import zarr
+from dask.base import tokenize
 
 from .. import _arguments
 from ._graph import remove_small_components
@@ -49,7 +52,7 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
     check_paths(source, outputs)
     stored = open_input(source)
 
-    parts = remove_small_components(stored, isovalue, max_size, side, fully_connected,
+    parts = remove_small_components(_CheckedInput(stored, source), isovalue, max_size, side, fully_connected,
                                     max_volume=max_volume, spacing=spacing, return_mask=removed_mask is not None,
                                     return_stats=True, threads=threads, chunks=chunks)
     for extents, stored_extent in zip(parts[0].chunks, stored.chunks):
@@ -186,6 +189,62 @@ def _first_stranger(path):
             if not (_CHUNK_KEY.fullmatch(name) or (top and name in _ZARR_METADATA)):
                 return os.path.relpath(os.path.join(directory, name), path)
     return None
+
+
+class _CheckedInput:
+    """The input array as the tasks read it: a chunk that cannot be decoded is named in a
+    ValueError, and a Blosc chunk whose length is not the one its header gives is refused (Blosc
+    decodes a truncated chunk into wrong voxels without an error)."""
+
+    def __init__(self, array, path):
+        self.array, self.path = array, path
+        self.shape, self.dtype, self.chunks = array.shape, array.dtype, array.chunks
+
+    def __dask_tokenize__(self):
+        return tokenize(self.path, self.shape, self.dtype, self.chunks, self.array.compressor, self.array.filters)
+
+    def __getitem__(self, slices):
+        blocks = list(itertools.product(*(range(s.start // edge, -(-s.stop // edge))
+                                          for s, edge in zip(slices, self.chunks))))
+        if isinstance(self.array.compressor, numcodecs.Blosc):
+            for block in blocks:
+                self._check_blosc_length(block)
+        try:
+            return self.array[slices]
+        except Exception:
+            for block in blocks:
+                try:
+                    self.array[tuple(slice(i * edge, (i + 1) * edge) for i, edge in zip(block, self.chunks))]
+                except Exception as error:
+                    raise self._unreadable(block, f"{type(error).__name__}: {error}") from None
+            raise
+
+    def _chunk_file(self, block):
+        """The file of the chunk ``block`` (flat or nested), or None if it is not stored."""
+        for separator in (".", os.sep):
+            path = os.path.join(self.path, separator.join(map(str, block)))
+            if os.path.isfile(path):
+                return path
+        return None
+
+    def _check_blosc_length(self, block):
+        path = self._chunk_file(block)
+        if path is None:
+            return
+        with open(path, "rb") as stream:
+            header = stream.read(16)
+            length = os.fstat(stream.fileno()).st_size
+        if len(header) < 16:
+            raise self._unreadable(block, f"it holds {length} bytes, fewer than a Blosc header's 16")
+        expected = numcodecs.blosc.cbuffer_sizes(header)[1]
+        if expected != length:
+            raise self._unreadable(block, f"it holds {length} bytes, its Blosc header gives {expected}")
+
+    def _unreadable(self, block, reason):
+        name = self._chunk_file(block) or os.path.join(self.path, ".".join(map(str, block)))
+        return ValueError(f"the chunk {name!r} of the Zarr array {self.path!r} cannot be read ({reason}); expected "
+                          f"{self.array.compressor or 'uncompressed'} data of a chunk of {self.chunks} {self.dtype} "
+                          "voxels")
 
 
 class _StagedArray:
