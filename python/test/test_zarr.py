@@ -122,6 +122,8 @@ def test_the_command_writes_the_statistics_of_the_command_line_tool(tmp_path):
     (["in.zarr", "out.zarr", "--isovalue", "nan"], "isovalue is NaN"),
     (["in.zarr", "in.zarr", "--isovalue", "1"], "the input and the outputs must be different paths"),
     (["in.zarr", "no/such/dir/out.zarr", "--isovalue", "1"], "does not exist"),
+    (["in.zarr", "out.zarr", "--isovalue", "1", "--scheduler", "bogus"],
+     "--scheduler 'bogus' is not a scheduler (missing port number in address 'bogus'); expected threads"),
 ])
 def test_the_command_gives_one_line_errors(tmp_path, monkeypatch, capsys, arguments, message):
     save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))
@@ -174,6 +176,7 @@ def make_data_folder(tmp_path):
     (["data/in.zarr", "file.txt"], "'file.txt': it is a file, not a Zarr array"),
     (["data/in.zarr", "earlier.zarr"], "besides a Zarr array it holds 'notes.txt'"),
     (["data/in.zarr", "link.zarr"], "'link.zarr': it is a symbolic link"),
+    (["data/in.zarr", "link.zarr/."], "'link.zarr/.': it is a directory that holds no Zarr array"),
     (["data/in.zarr", "out.zarr", "--removed-mask", "out.zarr/mask.zarr"], "'out.zarr': it holds the output 'out.zarr/mask.zarr'"),
     (["data/in.zarr", "out.zarr", "--stats", "data/in.zarr/.zarray"], "lies inside the input"),
     (["data/in.zarr", "out.zarr", "--stats", "mydocs"], "'mydocs': it is a directory; expected the path of a file"),
@@ -193,8 +196,8 @@ def test_the_command_replaces_an_earlier_output_of_its_own(tmp_path, monkeypatch
     volume, isovalue = random_volume(np.random.default_rng(5), "uint8", (6, 7, 8))
     save(tmp_path / "in.zarr", volume, (3, 3, 3))
     monkeypatch.chdir(tmp_path)
-    for max_size in (2, 5):
-        arguments = ["in.zarr", "out.zarr", "--removed-mask", "mask.zarr", "--isovalue", str(isovalue),
+    for max_size, output in ((2, "out.zarr"), (5, "out.zarr/."), (3, "./out.zarr/")):
+        arguments = ["in.zarr", output, "--removed-mask", "mask.zarr", "--isovalue", str(isovalue),
                      "--max-size", str(max_size), "--quiet"]
         assert command.main(arguments) == 0
         expected, mask = smalliso.remove_small_components(volume, isovalue, max_size, return_mask=True)

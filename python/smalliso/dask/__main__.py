@@ -155,6 +155,9 @@ def _scheduler(name):
             client = Client(name, timeout="10s")
         except OSError as error:
             raise ValueError(f"cannot reach a dask.distributed scheduler at --scheduler {name!r} ({error})") from None
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"--scheduler {name!r} is not a scheduler ({error}); expected threads, processes, "
+                             "synchronous or the address of a dask.distributed scheduler such as tcp://host:8786")
         with client:
             yield client
 

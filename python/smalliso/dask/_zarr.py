@@ -48,7 +48,9 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
     work, so nothing but an earlier Zarr array is ever replaced.
     """
     source = os.fspath(source)
-    outputs = [os.fspath(target)] + ([os.fspath(removed_mask)] if removed_mask is not None else [])
+    # Normalized, so that the path renamed into place is the one checked ("out.zarr/." is out.zarr,
+    # and a link's "link/." the link).
+    outputs = [os.path.normpath(os.fspath(path)) for path in (target, removed_mask) if path is not None]
     check_paths(source, outputs)
     stored = open_input(source)
 
