@@ -22,7 +22,9 @@
 #include "itkImageIOFactory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <sstream>
 
 namespace sic
 {
@@ -168,6 +170,17 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   {
     throw ToolError(what + " " + quoted + " is empty: its size is " + size +
                     " voxels; expected at least one voxel along every axis");
+  }
+  for (unsigned int axis = 0; axis < info.Dimension; ++axis)
+  {
+    // ITK's reader refuses a spacing of 0 only when it reads the voxels, and the streaming reader reads none of it.
+    if (info.Spacing[axis] == 0.0 || !std::isfinite(info.Spacing[axis]))
+    {
+      std::ostringstream spacing;
+      spacing << info.Spacing[axis];
+      throw ToolError(what + " " + quoted + " has a spacing of " + spacing.str() + " along axis " +
+                      std::to_string(axis) + "; expected a nonzero, finite spacing along every axis");
+    }
   }
 
   if (!headerProblem.empty())

@@ -307,6 +307,20 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
       m_Geometry.Direction.push_back(io->GetDirection(column)[row]);
     }
   }
+  // As ITK's reader does for the in-memory mode: a negative spacing is made positive and its axis's direction flipped,
+  // which places every voxel where it was (and gives --max-volume a positive voxel volume).
+  for (unsigned int column = 0; column < m_Geometry.Dimension; ++column)
+  {
+    if (m_Geometry.Spacing[column] < 0.0)
+    {
+      m_Geometry.Spacing[column] = -m_Geometry.Spacing[column];
+      for (unsigned int row = 0; row < m_Geometry.Dimension; ++row)
+      {
+        double & cosine = m_Geometry.Direction[row * m_Geometry.Dimension + column];
+        cosine = cosine == 0.0 ? 0.0 : -cosine; // no "-0" in the header written
+      }
+    }
+  }
 
   Data & data = *m_Data;
   data.Where = StreamedLayout(path, what);

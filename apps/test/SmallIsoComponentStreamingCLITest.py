@@ -256,6 +256,31 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                     self.assertUsageError(result, name, "is inconsistent", "expected exactly as many")
         self.assertEqual(sorted(os.listdir(self.dir)), before)
 
+    def test_both_modes_read_the_spacing_alike(self):
+        """A negative spacing is read as ITK's reader reads it, the positive spacing along a flipped axis, by both
+        modes (so --max-volume gives both the same K); a spacing of 0 is refused by both."""
+        sizes = (12, 10, 8)
+        voxels = bytes(200 if value < 90 else 10 for value in noise(sizes[0] * sizes[1] * sizes[2], seed=6))
+        meta = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nDimSize = %d %d %d\nElementSpacing = %s\n"
+                "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+        for name, spacing in (("negative.mha", "1 -2 0.5"), ("zero.mha", "1 0 1")):
+            with open(self.path(name), "wb") as file:
+                file.write((meta % (sizes + (spacing,))).encode() + voxels)
+        for mode, options in (("memory", []), ("streamed", ["--memory-limit", "512M"])):
+            with self.subTest(mode=mode):
+                self.check(run(FILTER, self.path("negative.mha"), self.path(mode + ".mha"), "--isovalue", ISOVALUE,
+                               "--max-volume", "6", "--stats", self.path(mode + ".json"), "--quiet", *options))
+                self.assertEqual(load_json(self.path(mode + ".json"))["parameters"]["effective_max_size"], 6)
+                result = run(FILTER, self.path("zero.mha"), self.path("zero-out.mha"), "--isovalue", ISOVALUE,
+                             *options)
+                self.assertUsageError(result, "'" + self.path("zero.mha") + "' has a spacing of 0 along axis 1",
+                                      "expected")
+                self.assertFalse(os.path.exists(self.path("zero-out.mha")))
+        self.assertSameImages(self.path("streamed.mha"), self.path("memory.mha"))
+        with open(self.path("memory.mha"), "rb") as memory, open(self.path("streamed.mha"), "rb") as streamed:
+            self.assertIn(b"TransformMatrix = 1 0 0 0 -1 0 0 0 1\n", streamed.read())
+            self.assertIn(b"TransformMatrix = 1 0 0 0 -1 0 0 0 1\n", memory.read())
+
     def test_errors_are_one_line_and_write_nothing(self):
         source = self.phantom("16")
         cases = [
