@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <new>
@@ -313,6 +314,35 @@ CompressedSizeProblem(const ImageDataSegment & segment, std::uint64_t compressed
   }
   return {};
 }
+
+/** Why the text voxels of a MetaImage (BinaryData False), from \a offset of \a file on, are not \a count numbers;
+ * empty when they are. ITK's reader takes a short or garbled text as it comes, leaving the voxels it did not get
+ * with whatever they held. */
+std::string
+TextDataProblem(const fs::path & file, std::uint64_t offset, std::uint64_t count)
+{
+  std::ifstream stream(file, std::ios::binary);
+  stream.seekg(static_cast<std::streamoff>(offset));
+  std::uint64_t values = 0;
+  std::string   word;
+  while (values < count && stream >> word)
+  {
+    char * end = nullptr;
+    std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end != '\0')
+    {
+      return "is corrupt: its text voxels hold " + Quoted(word) + " as value " + std::to_string(values + 1) +
+             "; expected a number for each of the " + std::to_string(count) + " values its header describes";
+    }
+    ++values;
+  }
+  if (values < count)
+  {
+    return "is incomplete: its text voxels hold " + std::to_string(values) + " values and its header describes " +
+           std::to_string(count);
+  }
+  return {};
+}
 } // namespace
 
 InflatedData
@@ -400,6 +430,16 @@ ImageFileProblem(const ImageFileParts & parts)
     }
     if (segment.Encoding == ImageDataEncoding::Unchecked)
     {
+      checked = false;
+      continue;
+    }
+    if (segment.Encoding == ImageDataEncoding::Raw && parts.TextValues && parts.Data.size() == 1 && !segment.AtEnd)
+    {
+      const std::string problem = TextDataProblem(segment.File, segment.Offset, *parts.TextValues);
+      if (!problem.empty())
+      {
+        return problem;
+      }
       checked = false;
       continue;
     }

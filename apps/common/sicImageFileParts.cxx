@@ -551,6 +551,10 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   {
     parts.DataBytes = DataBytesOf(axes, SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
   }
+  if (parts.TextData && counted && channels && *channels >= 1)
+  {
+    parts.TextValues = DataBytesOf(axes, static_cast<std::uint64_t>(*channels));
+  }
   const bool         compressed = Lowercase(fields["CompressedData"]) == "true";
   const std::int64_t headerSize = ParseLeadingInteger(fields["HeaderSize"]).value_or(0);
   // MetaIO takes a CompressedDataSize of 0, or none, as the whole data file.

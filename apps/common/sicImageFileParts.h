@@ -89,6 +89,8 @@ struct ImageFileParts
   bool BigEndian{ false };
   /** MetaImage's BinaryData False (on any of its lines): the voxels are written as text. */
   bool TextData{ false };
+  /** With TextData: the number of values the header describes (sizes times channels), when it says. */
+  std::optional<std::uint64_t> TextValues;
   /** NRRD's encoding field in lower case ("raw", "gzip", "ascii", ...); empty for the other formats. */
   std::string EncodingName;
 };

@@ -370,6 +370,27 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                 self.check(run(PROBE, "equal", outputs[0], outputs[1]))
                 self.check(run(PROBE, "equal", outputs[0], self.path("right.mha-memory.nrrd")))
 
+    def test_metaimage_text_voxels_must_be_as_many_numbers_as_the_header_describes(self):
+        # ITK's MetaImage reader takes text voxels (BinaryData False) as they come: too few, or a word that is no
+        # number, leave the voxels after them as they were, without an error.
+        values = [str(value % 100) for value in noise(4 * 5 * 6, seed=3)]
+        header = ("ObjectType = Image\nNDims = 3\nBinaryData = False\nDimSize = 6 5 4\nElementType = MET_SHORT\n"
+                  "ElementDataFile = LOCAL\n")
+        texts = {"whole.mha": values, "short.mha": values[:-5], "word.mha": values[:7] + ["x7"] + values[8:]}
+        for name, words in texts.items():
+            with open(self.path(name), "w") as file:
+                file.write(header + " ".join(words) + "\n")
+        before = self.listing()
+        for name, words in (("short.mha", ["incomplete", "hold 115 values", "describes 120"]),
+                            ("word.mha", ["corrupt", "'x7' as value 8", "expected a number"])):
+            with self.subTest(input=name):
+                self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", TEST_ISOVALUE,
+                                          "--quiet"), name, *words)
+                self.assertUsageError(run(REPORT, self.path(name), "--isovalue", TEST_ISOVALUE, "--no-surfaces"),
+                                      name, *words)
+        self.assertEqual(self.listing(), before)
+        self.check(run(FILTER, self.path("whole.mha"), self.path("o.nrrd"), "--isovalue", TEST_ISOVALUE, "--quiet"))
+
     def test_sizes_that_are_not_whole_numbers_of_at_least_one_are_refused(self):
         # ITK's NRRD reader refuses them with a trace that does not say which field is wrong, and its MetaImage
         # reader takes a negative size as a huge one.
