@@ -383,8 +383,18 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
   const std::string encoding = Lowercase(fields["encoding"]);
   parts.EncodingName = encoding;
   parts.BigEndian = Lowercase(fields["endian"]) == "big";
-  const bool          raw = encoding == "raw";
-  const bool          deflate = encoding == "gzip" || encoding == "gz";
+  const bool raw = encoding == "raw";
+  const bool deflate = encoding == "gzip" || encoding == "gz";
+  // ITK's NRRD reader refuses any other encoding (bzip2 among them) with a chain of its library's messages.
+  const bool readable = raw || deflate || encoding == "ascii" || encoding == "text" || encoding == "txt" ||
+                        encoding == "hex" || fields.count("encoding") == 0;
+  if (!readable)
+  {
+    problem = "its header gives 'encoding: " + fields["encoding"] +
+              "', which ITK's NRRD reader cannot read; expected raw, gzip, ascii or hex";
+    parts.UnsafeForItk = true;
+    return;
+  }
   const std::uint64_t typeBytes =
     fields["type"] == "block"
       ? static_cast<std::uint64_t>(std::max<std::int64_t>(ParseInteger(fields["blocksize"]).value_or(0), 0))

@@ -370,6 +370,21 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                 self.check(run(PROBE, "equal", outputs[0], outputs[1]))
                 self.check(run(PROBE, "equal", outputs[0], self.path("right.mha-memory.nrrd")))
 
+    def test_nrrd_encodings_itks_reader_cannot_read_are_refused(self):
+        # ITK's NRRD reader has no bzip2 (nor zstd, nor any unknown encoding); both modes and the report say so.
+        for encoding in ("bzip2", "bz2", "zstd"):
+            write_nrrd(self.path(encoding + ".nrrd"), [4, 3, 2], bytes(48), encoding=encoding)
+        before = self.listing()
+        for encoding in ("bzip2", "bz2", "zstd"):
+            name = encoding + ".nrrd"
+            words = (name, "'encoding: %s', which ITK's NRRD reader cannot read" % encoding, "expected raw, gzip")
+            for options in ([], ["--memory-limit", "64M"]):
+                with self.subTest(input=name, options=options):
+                    self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue",
+                                              TEST_ISOVALUE, "--quiet", *options), *words)
+            self.assertUsageError(run(REPORT, self.path(name), "--isovalue", TEST_ISOVALUE, "--no-surfaces"), *words)
+        self.assertEqual(self.listing(), before)
+
     def test_metaimage_text_voxels_must_be_as_many_numbers_as_the_header_describes(self):
         # ITK's MetaImage reader takes text voxels (BinaryData False) as they come: too few, or a word that is no
         # number, leave the voxels after them as they were, without an error.
