@@ -526,6 +526,7 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   if (!found)
   {
     problem = "its header ends before ElementDataFile, its last field";
+    parts.UnsafeForItk = true;
     return;
   }
   // MetaIO refuses a header without these with a message that does not say why, and leaks on the way.

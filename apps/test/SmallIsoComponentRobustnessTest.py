@@ -574,6 +574,11 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                 self.assertUsageError(run(FILTER, source, self.path("o.mha"), "--isovalue", "0.5"),
                                       "has no %s field" % missing)
                 self.assertUsageError(run(REPORT, source, "--isovalue", "0.5"), "has no %s field" % missing)
+        # Without ElementDataFile, MetaIO prints four lines and ITK says the file cannot be read, "Reason: Success".
+        with open(self.path("header-only.mha"), "w") as file:
+            file.write("ObjectType = Image\n" + "".join(fields.values()))
+        for tool in ((FILTER, self.path("header-only.mha"), self.path("o.mha")), (REPORT, self.path("header-only.mha"))):
+            self.assertUsageError(run(*tool, "--isovalue", "0.5"), "header ends before ElementDataFile")
         self.assertNotIn("o.mha", self.listing())
 
     def test_nifti_sforms_itks_reader_cannot_decompose_are_refused(self):
