@@ -163,6 +163,7 @@ def make_data_folder(tmp_path):
     save(tmp_path / "earlier.zarr", np.zeros((2, 2), np.uint8), (1, 1))
     (tmp_path / "earlier.zarr" / "notes.txt").write_text("mine\n")
     os.symlink(tmp_path / "mydocs", tmp_path / "link.zarr")
+    os.symlink(os.devnull, tmp_path / "null.json")
     return data
 
 
@@ -180,6 +181,7 @@ def make_data_folder(tmp_path):
     (["data/in.zarr", "out.zarr", "--removed-mask", "out.zarr/mask.zarr"], "'out.zarr': it holds the output 'out.zarr/mask.zarr'"),
     (["data/in.zarr", "out.zarr", "--stats", "data/in.zarr/.zarray"], "lies inside the input"),
     (["data/in.zarr", "out.zarr", "--stats", "mydocs"], "'mydocs': it is a directory; expected the path of a file"),
+    (["data/in.zarr", "out.zarr", "--stats", "null.json"], "'null.json': it is not a regular file"),
 ])
 def test_the_command_replaces_nothing_but_an_earlier_zarr_array(tmp_path, monkeypatch, capsys, arguments, message):
     make_data_folder(tmp_path)

@@ -161,6 +161,10 @@ def check_paths(source, outputs, files=()):
     for path in files:
         if os.path.isdir(path):
             raise ValueError(f"cannot write {path!r}: it is a directory; expected the path of a file")
+        # The file is renamed into place: over /dev/stdout, say, it would replace the device's link.
+        if os.path.exists(path) and not os.path.isfile(path):
+            raise ValueError(f"cannot write {path!r}: it is not a regular file (a device, FIFO or socket); expected "
+                             "the path of a file")
 
 
 def check_replaceable(path):
