@@ -770,14 +770,24 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
   };
   const std::int64_t bitsPerVoxel = FieldAt<std::int16_t>(bytes, nifti2 ? 14 : 72, swapped);
   const std::int64_t dimensions = dimension(0);
-  if (dimensions >= 1 && dimensions <= 7 && bitsPerVoxel > 0 && bitsPerVoxel % 8 == 0)
+  if (dimensions >= 1 && dimensions <= 7)
   {
     std::vector<std::string> sizes;
     for (int i = 1; i <= dimensions; ++i)
     {
       sizes.push_back(std::to_string(dimension(i)));
     }
-    parts.DataBytes = DataBytesOf(sizes, static_cast<std::uint64_t>(bitsPerVoxel / 8));
+    // ITK's NIfTI reader takes a size below 1 as 1, and reads a part of the voxels as the whole image.
+    problem = SizesProblem("dim[1..dim[0]] =", sizes);
+    if (!problem.empty())
+    {
+      parts.UnsafeForItk = true;
+      return;
+    }
+    if (bitsPerVoxel > 0 && bitsPerVoxel % 8 == 0)
+    {
+      parts.DataBytes = DataBytesOf(sizes, static_cast<std::uint64_t>(bitsPerVoxel / 8));
+    }
   }
   std::uint64_t voxelOffset = 0;
   if (nifti2)

@@ -407,14 +407,19 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
         self.check(run(FILTER, self.path("whole.mha"), self.path("o.nrrd"), "--isovalue", TEST_ISOVALUE, "--quiet"))
 
     def test_sizes_that_are_not_whole_numbers_of_at_least_one_are_refused(self):
-        # ITK's NRRD reader refuses them with a trace that does not say which field is wrong, and its MetaImage
-        # reader takes a negative size as a huge one.
+        # ITK's NRRD reader refuses them with a trace that does not say which field is wrong, its MetaImage
+        # reader takes a negative size as a huge one, and its NIfTI reader a size below 1 as 1 (reading part of
+        # the voxels as the whole image).
         data = bytes(2 * 4 * 4 * 4)
         write_nrrd(self.path("zero.nrrd"), [0, 4, 4], data)
         write_nrrd(self.path("negative.nrrd"), [4, -4, 4], data)
         write_nrrd(self.path("word.nhdr"), ["4", "four", "4"], data, data_file="word.raw")
         write_metaimage(self.path("negative.mha"), [4, -4, 4], data)
-        cases = (("zero.nrrd", ["is empty", "0 x 4 x 4", "expected at least one voxel along every axis"]),
+        write_nifti(self.path("negative.nii"), [4, -4, 4], data)
+        write_nifti(self.path("zero.nii"), [4, 4, 0], data)
+        cases = (("negative.nii", ["'dim[1..dim[0]] = 4 -4 4'", "expected a whole number of voxels, at least 1"]),
+                 ("zero.nii", ["is empty", "4 x 4 x 0", "expected at least one voxel along every axis"]),
+                 ("zero.nrrd", ["is empty", "0 x 4 x 4", "expected at least one voxel along every axis"]),
                  ("negative.nrrd", ["'sizes: 4 -4 4'", "expected a whole number of voxels, at least 1"]),
                  ("word.nhdr", ["'sizes: 4 four 4'", "expected a whole number of voxels, at least 1"]),
                  ("negative.mha", ["'DimSize = 4 -4 4'", "expected a whole number of voxels, at least 1"]))
