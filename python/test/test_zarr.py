@@ -221,6 +221,8 @@ def test_the_command_replaces_an_earlier_output_of_its_own(tmp_path, monkeypatch
     ("corrupt attributes", "its attributes 'in.zarr/.zattrs' are invalid"),
     ("attributes list", "its attributes 'in.zarr/.zattrs' are invalid ([1]); expected a JSON object"),
     ("0-D", "the array is 0-D (shape ()); expected a 2-D or 3-D array"),
+    ("a chunk missing without a fill value", "1 of the 4 chunks of the Zarr array 'in.zarr' are not stored and it has "
+     "no fill value to read them as; expected every chunk stored, or a fill value in 'in.zarr/.zarray'"),
 ])
 def test_the_command_names_an_unreadable_input(tmp_path, monkeypatch, capsys, setup, message):
     monkeypatch.chdir(tmp_path)
@@ -244,6 +246,9 @@ def test_the_command_names_an_unreadable_input(tmp_path, monkeypatch, capsys, se
             (tmp_path / "in.zarr" / ".zattrs").write_text("{")
         elif setup == "attributes list":
             (tmp_path / "in.zarr" / ".zattrs").write_text("[1]")
+        elif setup == "a chunk missing without a fill value":
+            metadata.write_text(json.dumps({**json.loads(metadata.read_text()), "fill_value": None}))
+            (tmp_path / "in.zarr" / "1.0").unlink()
         else:
             metadata.write_text(json.dumps({**json.loads(metadata.read_text()), **changes[setup]}))
     status = command.main(["in.zarr", "out.zarr", "--isovalue", "1"])

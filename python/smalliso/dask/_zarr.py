@@ -120,6 +120,13 @@ def open_input(source):
                          f"{os.path.join(source, '.zattrs')!r} are invalid ({attributes!r}); expected a JSON object")
     _arguments.check_dtype(stored.dtype)
     _arguments.check_shape(shape)
+    # Without a fill value, Zarr leaves the voxels of a chunk that is not stored as the memory held.
+    if stored.fill_value is None:
+        missing = stored.nchunks - stored_chunks(source, stored)
+        if missing:
+            raise ValueError(f"{missing} of the {stored.nchunks} chunks of the Zarr array {source!r} are not stored "
+                             "and it has no fill value to read them as; expected every chunk stored, or a fill value "
+                             f"in {metadata!r}")
     return stored
 
 
