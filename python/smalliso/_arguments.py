@@ -79,6 +79,13 @@ def check_side(side):
     return side
 
 
+def check_flag(value, name):
+    """``value`` as a bool, if it is one: a string such as "no" or "false" would otherwise be true."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, not {value!r}")
+    return bool(value)
+
+
 def check_max_volume(max_volume):
     if max_volume is None:
         return None

@@ -73,6 +73,10 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     side = _arguments.check_side(side)
     max_volume = _arguments.check_max_volume(max_volume)
     work_units = _arguments.check_threads(threads)
+    fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
+    return_mask = _arguments.check_flag(return_mask, "return_mask")
+    return_stats = _arguments.check_flag(return_stats, "return_stats")
+    in_place = _arguments.check_flag(in_place, "in_place")
     if in_place and out is not None:
         raise ValueError("give out or in_place=True, not both (out=array filters array in place)")
     if in_place or out is array:
@@ -97,8 +101,8 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         # the dtype (a view of raw bytes, a buffer unpickled from another process), get a copy.
         array = np.require(array, requirements=("C", "A"))
     output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
-                                       side, bool(fully_connected), spacing, target is not None,
-                                       bool(return_mask), work_units)
+                                       side, fully_connected, spacing, target is not None, return_mask,
+                                       work_units)
     result = (target if target is not None else output,)
     if return_mask:
         result += (mask,)

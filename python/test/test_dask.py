@@ -196,6 +196,8 @@ def test_each_chunk_is_filtered_once_when_the_parts_are_computed_together(monkey
     (dict(chunks=0), ValueError, "chunks is 0.*expected positive chunk edges"),
     (dict(chunks=(2, 0)), ValueError, r"chunks is \(2, 0\).*expected positive chunk edges"),
     (dict(chunks=-1.5), ValueError, "chunks is -1.5"),
+    (dict(fully_connected="no"), TypeError, "fully_connected must be True or False, not 'no'"),
+    (dict(return_stats="false"), TypeError, "return_stats must be True or False, not 'false'"),
     (dict(chunks=(2, float("nan"))), ValueError, r"chunks is \(2, nan\).*expected positive chunk edges"),
     (dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2)[da.arange(4, chunks=2) > 0], chunks=2), ValueError,
      "unknown chunk sizes"),

@@ -207,12 +207,20 @@ def test_output_does_not_depend_on_the_threads():
     (dict(out=np.zeros((4, 5), np.int8)), ValueError, "dtype int8"),
     (dict(out=[[0] * 5] * 4), TypeError, "out must be a NumPy array"),
     (dict(array=[[0] * 5] * 4, in_place=True), TypeError, "array must be a NumPy array"),
+    # A string flag would be true whatever it says.
+    (dict(fully_connected="no"), TypeError, "fully_connected must be True or False, not 'no'"),
+    (dict(return_mask="false"), TypeError, "return_mask must be True or False, not 'false'"),
+    (dict(return_stats=None), TypeError, "return_stats must be True or False, not None"),
+    (dict(in_place="no"), TypeError, "in_place must be True or False, not 'no'"),
 ])
 def test_bad_arguments_give_clear_errors(arguments, error, message):
     call = dict(array=np.zeros((4, 5), np.uint8), isovalue=1.0)
     call.update(arguments)
+    array = call["array"].copy() if isinstance(call["array"], np.ndarray) else None
     with pytest.raises(error, match=message):
         smalliso.remove_small_components(**call)
+    if array is not None:
+        assert np.array_equal(call["array"], array)
 
 
 def test_read_only_and_overlapping_targets_are_refused():

@@ -162,6 +162,9 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     side = _arguments.check_side(side)
     max_volume = _arguments.check_max_volume(max_volume)
     work_units = _arguments.check_threads(threads)
+    fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
+    return_mask = _arguments.check_flag(return_mask, "return_mask")
+    return_stats = _arguments.check_flag(return_stats, "return_stats")
     if _is_stored(array):
         source = _StoredInput(array, _task_chunks(chunks, array))
     else:
@@ -176,9 +179,9 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     k = effective_max_size(max_size, max_volume, spacing, ndim)
     # No component is larger than the image, so a halo of the image's size is as good as any larger one.
     halo = _core.box_halo(min(k, int(np.prod(shape))), side)
-    parameters = _Parameters(isovalue, k, side, bool(fully_connected), work_units)
+    parameters = _Parameters(isovalue, k, side, fully_connected, work_units)
 
-    token = tokenize(source.name, isovalue, k, side, bool(fully_connected), work_units)
+    token = tokenize(source.name, isovalue, k, side, fully_connected, work_units)
     names = {part: f"smalliso-{part}-{token}" for part in
              ("piece", "filter", "output", "mask", "fallbacks", "summary", "merge", "statistics")}
     blocks = list(itertools.product(*(range(len(extents)) for extents in source.chunks)))
