@@ -27,7 +27,7 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         a Fortran-ordered array is used as it is, its first axis being x. Neither is copied. An array
         that is neither C- nor Fortran-contiguous (a strided view), or whose samples are not
         aligned for its dtype (a view of raw bytes at an odd offset), is copied into a C-ordered
-        array first, or refused with ``in_place=True``.
+        array first, or refused with ``in_place=True``. A masked array is refused.
     isovalue : float
         Voxels ``>= isovalue`` are above it; NaN is an error.
     max_size : int
@@ -77,6 +77,10 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     return_mask = _arguments.check_flag(return_mask, "return_mask")
     return_stats = _arguments.check_flag(return_stats, "return_stats")
     in_place = _arguments.check_flag(in_place, "in_place")
+    if isinstance(array, np.ma.MaskedArray):
+        # numpy.asarray drops the mask: the masked voxels' hidden values would be filtered as data.
+        raise TypeError("array is a masked array, whose mask the filter cannot honour; expected a plain array, such "
+                        "as array.filled(value) with a value on the side the masked voxels belong to")
     if in_place and out is not None:
         raise ValueError("give out or in_place=True, not both (out=array filters array in place)")
     if in_place or out is array:

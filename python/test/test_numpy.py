@@ -212,6 +212,7 @@ def test_output_does_not_depend_on_the_threads():
     (dict(return_mask="false"), TypeError, "return_mask must be True or False, not 'false'"),
     (dict(return_stats=None), TypeError, "return_stats must be True or False, not None"),
     (dict(in_place="no"), TypeError, "in_place must be True or False, not 'no'"),
+    (dict(array=np.ma.masked_array(np.zeros((4, 5), np.uint8), mask=True)), TypeError, "masked array"),
 ])
 def test_bad_arguments_give_clear_errors(arguments, error, message):
     call = dict(array=np.zeros((4, 5), np.uint8), isovalue=1.0)
