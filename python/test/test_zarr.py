@@ -194,6 +194,25 @@ def test_the_command_replaces_nothing_but_an_earlier_zarr_array(tmp_path, monkey
     assert snapshot(tmp_path) == before
 
 
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes in a read-only directory")
+@pytest.mark.parametrize("output", ["out", "stats"])
+def test_the_command_checks_that_it_can_write_before_the_work(tmp_path, monkeypatch, capsys, output):
+    save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))
+    (tmp_path / "locked").mkdir()
+    monkeypatch.chdir(tmp_path)
+    os.chmod("locked", 0o555)
+    arguments = ["in.zarr", "locked/out.zarr"] if output == "out" else ["in.zarr", "out.zarr", "--stats",
+                                                                        "locked/s.json"]
+    try:
+        status = command.main(arguments + ["--isovalue", "1", "--quiet"])
+    finally:
+        os.chmod("locked", 0o755)
+    stderr = capsys.readouterr().err
+    assert status == 2 and stderr.count("\n") == 1, stderr
+    assert "cannot create a file in" in stderr and "expected a directory this user can write in" in stderr, stderr
+    assert not (tmp_path / "out.zarr").exists() and os.listdir("locked") == [] and leftovers(tmp_path) == []
+
+
 def test_the_command_replaces_an_earlier_output_of_its_own(tmp_path, monkeypatch):
     volume, isovalue = random_volume(np.random.default_rng(5), "uint8", (6, 7, 8))
     save(tmp_path / "in.zarr", volume, (3, 3, 3))

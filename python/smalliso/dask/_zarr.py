@@ -163,6 +163,12 @@ def check_paths(source, outputs, files=()):
         parent = os.path.dirname(os.path.abspath(path))
         if not os.path.isdir(parent):
             raise ValueError(f"cannot write {path!r}: its directory {parent!r} does not exist")
+        # Each output is staged beside it: found out now, not after the work (or after another output is written).
+        try:
+            tempfile.TemporaryFile(dir=parent).close()
+        except OSError as error:
+            raise ValueError(f"cannot write {path!r}: cannot create a file in {parent!r} ({error.strerror}); "
+                             "expected a directory this user can write in") from None
     for path in outputs:
         check_replaceable(path)
     for path in files:
