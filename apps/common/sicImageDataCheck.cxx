@@ -380,6 +380,12 @@ Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string &
         return inflated;
       }
     }
+    if (!started && members && stream.avail_in >= 2 && (stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b))
+    {
+      // NRRD's and NIfTI's readers (zlib's gzread) take data that are not gzip as uncompressed voxels.
+      problem = "is not gzip data (which starts with the bytes 1f 8b)";
+      return inflated;
+    }
     started = true;
     const int status = inflater.Run(inflated.Bytes);
     if (status == Z_OK)

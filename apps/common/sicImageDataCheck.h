@@ -50,9 +50,9 @@ struct InflatedData
 
 /** Inflates the zlib or gzip stream that starts at byte \a offset of \a file, checking its checksum, and with
  * \a members the gzip members that follow it, as NRRD and NIfTI readers do (anything after the last one is
- * ignored, as zlib's own reader ignores it); MetaImage's reader takes the first stream alone. Sets \a problem ("is
- * missing", "is cut short", "fails its checksum (incorrect data check)", "is corrupt (...)") when the data is not
- * complete, intact zlib or gzip data. */
+ * ignored, as zlib's own reader ignores it; a first stream that is not gzip is refused); MetaImage's reader takes
+ * the first stream alone. Sets \a problem ("is missing", "is cut short", "fails its checksum (incorrect data
+ * check)", "is corrupt (...)", "is not gzip data (...)") when the data is not complete, intact zlib or gzip data. */
 InflatedData
 Inflate(const std::filesystem::path & file, std::uint64_t offset, bool members, std::string & problem);
 } // namespace sic

@@ -216,7 +216,8 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
 
     def test_both_modes_accept_and_refuse_the_same_compressed_inputs(self):
         """gzip data in several members (what pigz, bgzip and concatenated gzip files hold) are read alike by
-        both modes; compressed data that inflate to more voxels than the header describes are refused by both."""
+        both modes; compressed data that inflate to more voxels than the header describes, and zlib data where
+        gzip data should be, are refused by both."""
         sizes = (24, 20, 16)
         plane = sizes[0] * sizes[1]
         voxels = bytes(200 if value < 90 else 10 for value in noise(plane * sizes[2], seed=5))
@@ -233,6 +234,8 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
             + gzip.compress(b""),
             "extra.nrrd": nrrd + gzip.compress(voxels + voxels[:plane]),
             "extra.mha": (meta % ((len(extra),) + sizes)).encode() + extra,
+            # A zlib stream, not gzip: ITK's NRRD reader would take it as uncompressed voxels.
+            "zlib.nrrd": nrrd + zlib.compress(voxels),
         }
         for name, content in files.items():
             with open(self.path(name), "wb") as file:
@@ -254,6 +257,11 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                     result = run(FILTER, self.path(name), self.path("out.nrrd"), "--isovalue", ISOVALUE, "--quiet",
                                  *options)
                     self.assertUsageError(result, name, "is inconsistent", "expected exactly as many")
+        for options in ([], ["--memory-limit", "512M"]):
+            with self.subTest(name="zlib.nrrd", options=options):
+                result = run(FILTER, self.path("zlib.nrrd"), self.path("out.nrrd"), "--isovalue", ISOVALUE, "--quiet",
+                             *options)
+                self.assertUsageError(result, "zlib.nrrd", "is not gzip data", "expected")
         self.assertEqual(sorted(os.listdir(self.dir)), before)
 
     def test_both_modes_read_the_spacing_alike(self):
