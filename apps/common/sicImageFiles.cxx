@@ -182,6 +182,23 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
                       std::to_string(axis) + "; expected a nonzero, finite spacing along every axis");
     }
   }
+  // ITK's reader refuses a direction matrix of determinant (exactly) 0 only when it reads the voxels too.
+  std::vector<std::vector<double>> direction;
+  for (unsigned int axis = 0; axis < info.Dimension; ++axis)
+  {
+    direction.push_back(io->GetDirection(axis));
+  }
+  const auto & d = direction;
+  const double determinant = info.Dimension == 2 ? d[0][0] * d[1][1] - d[1][0] * d[0][1]
+                                                 : d[0][0] * (d[1][1] * d[2][2] - d[2][1] * d[1][2]) -
+                                                     d[1][0] * (d[0][1] * d[2][2] - d[2][1] * d[0][2]) +
+                                                     d[2][0] * (d[0][1] * d[1][2] - d[1][1] * d[0][2]);
+  if (determinant == 0.0)
+  {
+    throw ToolError(what + " " + quoted +
+                    " has a direction matrix of determinant 0 (its axes do not span the space); expected axes in "
+                    "independent directions");
+  }
 
   if (!headerProblem.empty())
   {

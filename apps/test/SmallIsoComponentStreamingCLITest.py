@@ -289,6 +289,21 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
             self.assertIn(b"TransformMatrix = 1 0 0 0 -1 0 0 0 1\n", streamed.read())
             self.assertIn(b"TransformMatrix = 1 0 0 0 -1 0 0 0 1\n", memory.read())
 
+    def test_both_modes_refuse_axes_that_do_not_span_the_space(self):
+        """A direction matrix of determinant 0 (two axes along one line), which the in-memory mode's reader refuses
+        as it reads the voxels, is refused by both modes before anything is written."""
+        header = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nDimSize = 4 3 2\n"
+                  "TransformMatrix = 1 0 0 1 0 0 0 0 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+        with open(self.path("collinear.mha"), "wb") as file:
+            file.write(header.encode() + bytes(24))
+        for options in ([], ["--memory-limit", "512M"]):
+            with self.subTest(options=options):
+                result = run(FILTER, self.path("collinear.mha"), self.path("out.mha"), "--isovalue", ISOVALUE,
+                             "--quiet", *options)
+                self.assertUsageError(result, "collinear.mha", "direction matrix of determinant 0",
+                                      "expected axes in independent directions")
+        self.assertEqual(sorted(os.listdir(self.dir)), ["collinear.mha"])
+
     def test_errors_are_one_line_and_write_nothing(self):
         source = self.phantom("16")
         cases = [
