@@ -59,6 +59,28 @@ ReplaceAll(std::string text, const std::string & from, const std::string & to)
   }
   return text;
 }
+
+/** Throws unless an output may replace what is at \a destination: nothing, a regular file or a link to one (or to
+ * nothing). A rename would replace a directory's entry, a FIFO, a device or a socket, or the link to one (such
+ * as /dev/stdout), where the user meant to write into it. */
+void
+CheckReplaceable(const fs::path & destination, const std::string & what)
+{
+  std::error_code       error;
+  const fs::file_status found = fs::status(destination, error);
+  if (!fs::exists(found) || fs::is_regular_file(found))
+  {
+    return;
+  }
+  const std::string kind = fs::is_directory(found)                                    ? "a directory"
+                           : fs::is_fifo(found)                                       ? "a FIFO"
+                           : fs::is_socket(found)                                     ? "a socket"
+                           : fs::is_character_file(found) || fs::is_block_file(found) ? "a device"
+                                                                                      : "a special file";
+  const bool        linked = fs::is_symlink(fs::symlink_status(destination, error));
+  throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": it is " +
+                  (linked ? "a link to " : "") + kind + "; expected a regular file or a new path");
+}
 } // namespace
 
 StagedOutputs::StagedOutputs()
@@ -113,13 +135,9 @@ StagedOutputs::Stage(const std::string & finalPath, const std::string & what)
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": expected a file path");
   }
+  CheckReplaceable(destination, what);
   std::error_code error;
-  if (fs::is_directory(destination, error))
-  {
-    throw ToolError("cannot write the " + what + " to " + Quoted(destination) +
-                    ": it is a directory; expected a file path");
-  }
-  const fs::path directory = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
+  const fs::path  directory = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
   if (!fs::exists(directory, error))
   {
     throw ToolError("cannot write the " + what + " to " + Quoted(destination) + ": the directory " + Quoted(directory) +
@@ -180,11 +198,7 @@ StagedOutputs::Commit()
     for (const fs::path & file : files[i])
     {
       const fs::path destination = staged.Final.parent_path() / file.filename();
-      if (fs::is_directory(destination, error))
-      {
-        throw ToolError("cannot write the " + staged.What + " to " + Quoted(destination) +
-                        ": it is a directory; expected a file path");
-      }
+      CheckReplaceable(destination, staged.What);
       CheckNotProtected(destination, staged.What);
       for (const auto & [other, otherWhat] : destinations)
       {

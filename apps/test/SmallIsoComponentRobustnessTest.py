@@ -14,6 +14,7 @@ import os
 import random
 import resource
 import signal
+import stat
 import struct
 import subprocess
 import time
@@ -204,6 +205,32 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                      "--stats", self.path("out.raw.gz"))
         self.assertUsageError(result, "both write", "out.raw.gz")
         self.assertEqual(self.listing(), ["in.nrrd"])
+
+    def test_outputs_never_replace_fifos_devices_or_links_to_them(self):
+        source = self.make_image("in.nrrd")
+        os.mkfifo(self.path("fifo.json"))
+        os.symlink(os.devnull, self.path("null.json"))
+        os.mkfifo(self.path("fifo.nrrd"))
+        os.symlink(self.path("fifo.nrrd"), self.path("fifo-link.nrrd"))
+        filtered = [FILTER, source, self.path("out.nrrd"), "--isovalue", TEST_ISOVALUE, "--quiet"]
+        cases = [
+            (filtered + ["--stats", self.path("fifo.json")], "it is a FIFO"),
+            (filtered + ["--stats", self.path("null.json")], "it is a link to a device"),
+            (filtered + ["--removed-mask", self.path("fifo.nrrd")], "it is a FIFO"),
+            ([FILTER, source, self.path("fifo-link.nrrd"), "--isovalue", TEST_ISOVALUE, "--quiet"],
+             "it is a link to a FIFO"),
+            ([REPORT, source, "--isovalue", TEST_ISOVALUE, "--no-surfaces", "--output", self.path("null.json")],
+             "it is a link to a device"),
+        ]
+        before = self.listing()
+        for arguments, message in cases:
+            with self.subTest(arguments=arguments):
+                self.assertUsageError(run(*arguments), message, "expected a regular file or a new path")
+                self.assertEqual(self.listing(), before)
+                self.assertTrue(os.path.islink(self.path("null.json")))
+                self.assertEqual(os.readlink(self.path("null.json")), os.devnull)
+                for fifo in ("fifo.json", "fifo.nrrd"):
+                    self.assertTrue(stat.S_ISFIFO(os.lstat(self.path(fifo)).st_mode), fifo)
 
     # 3, 4, 9. Incomplete and corrupt inputs are refused before anything is allocated.
 
