@@ -80,10 +80,11 @@ def check_side(side):
 
 
 def check_flag(value, name):
-    """``value`` as a bool, if it is one: a string such as "no" or "false" would otherwise be true."""
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be True or False, not {value!r}")
-    return bool(value)
+    """``value`` as a bool, if it is one (or the integer 1 or 0): a string such as "no" or "false" would
+    otherwise be true."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, not {value!r}")
 
 
 def check_max_volume(max_volume):

@@ -224,6 +224,17 @@ def test_bad_arguments_give_clear_errors(arguments, error, message):
         assert np.array_equal(call["array"], array)
 
 
+def test_flags_take_one_and_zero_as_true_and_false():
+    volume, isovalue = random_volume(np.random.default_rng(9), "int16", (6, 7, 8))
+    ones = smalliso.remove_small_components(volume, isovalue, 3, fully_connected=1, return_mask=np.int64(1))
+    trues = smalliso.remove_small_components(volume, isovalue, 3, fully_connected=True, return_mask=True)
+    assert all(same_bits(a, b) for a, b in zip(ones, trues))
+    assert same_bits(smalliso.remove_small_components(volume, isovalue, 3, fully_connected=0),
+                     smalliso.remove_small_components(volume, isovalue, 3, fully_connected=False))
+    with pytest.raises(TypeError, match="fully_connected must be True or False, not 2"):
+        smalliso.remove_small_components(volume, isovalue, 3, fully_connected=2)
+
+
 def test_read_only_and_overlapping_targets_are_refused():
     volume = np.zeros((4, 5), np.uint8)
     volume.flags.writeable = False
