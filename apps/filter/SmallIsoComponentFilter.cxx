@@ -592,16 +592,18 @@ FilterStreamed(const sic::FilterSettings & settings,
     maximumSize =
       itk::SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(*settings.MaximumVolume, voxelVolume);
   }
-  // The plan holds for any data: it counts the input's scanline runs first, reading it once more.
-  const std::uint64_t runsPerPlane = sic::MostRunsInAPlane(settings.Input, settings.IsoValue);
+  // The plan holds for any data: it counts the input's scanline runs and their components first, reading it once
+  // more.
+  const std::uint64_t labelBytes =
+    sic::MostLabelBytesInAPlane(settings.Input, settings.IsoValue, settings.FullyConnected, maximumSize);
   const std::uint64_t baseline = sic::StreamingProcessBytes();
   const std::uint64_t budget = limit > baseline ? limit - baseline : 0;
   const unsigned int  workUnits = sic::StreamingWorkUnits(settings);
-  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, runsPerPlane, maximumSize, budget, workUnits);
+  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, labelBytes, maximumSize, budget, workUnits);
   if (slabPlanes == 0)
   {
     // The figure has a MiB to spare: the process's own size varies from run to run by a fraction of one.
-    const std::uint64_t window = sic::StreamingWorkingBytes(geometry, runsPerPlane, maximumSize, 1, workUnits);
+    const std::uint64_t window = sic::StreamingWorkingBytes(geometry, labelBytes, maximumSize, 1, workUnits);
     throw sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
                          " MiB is too small to stream this image with K = " + std::to_string(maximumSize) +
                          ": it needs about " + std::to_string(((baseline + window) >> 20) + 2) +

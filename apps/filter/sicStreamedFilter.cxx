@@ -223,40 +223,129 @@ StreamingWorkUnits(const FilterSettings & settings)
 
 namespace
 {
-/** The most memory a scanline run takes in the window, with the allocator's slack: its run, component, fate,
- * candidate and summary entries when it is a component of its own, and the repairs of its voxels. Measured on
- * the densest data there is, a checkerboard (every voxel a run and a component). */
-constexpr std::uint64_t BytesPerRun = 128;
+/** What a scanline run takes in the window beside its component: its run entry, its label in the slab, its
+ * entries in the summaries' face layers, with the allocator's slack. Measured on stripes (a run at every voxel,
+ * a few long components). */
+constexpr std::uint64_t BytesPerRun = 16;
+
+/** What a component takes in the window: its fate, its candidate and summary entries. With BytesPerRun and
+ * BytesPerRepairedVoxel, measured on the checkerboard (every voxel a run and a small component of its own). */
+constexpr std::uint64_t BytesPerComponent = 80;
+
+/** What a voxel of a small component takes while it is repaired. Measured on stripes that are all small
+ * components. */
+constexpr std::uint64_t BytesPerRepairedVoxel = 32;
 
 /** What a streamed run adds to the process beside its window: its threads' stacks, the readers' and writers'
  * buffers (zlib's included). */
 constexpr std::uint64_t RunOverheadBytes = std::uint64_t{ 8 } << 20;
 
+/** A scanline run of one side of the isovalue: its voxels [Begin, End) on its line, its entry in the plane's
+ * union-find. */
+struct LineRun
+{
+  std::uint64_t Begin;
+  std::uint64_t End;
+  std::uint64_t Index;
+  bool          Above;
+};
+
+/** The union-find of a plane's runs: each run's parent, and the voxels of the runs below each root. */
+struct PlaneComponents
+{
+  std::vector<std::uint64_t> Parent;
+  std::vector<std::uint64_t> Voxels;
+
+  std::uint64_t
+  Root(std::uint64_t run)
+  {
+    while (Parent[run] != run)
+    {
+      run = Parent[run] = Parent[Parent[run]];
+    }
+    return run;
+  }
+};
+
+/** The bytes a plane's labelling takes: its runs; its components of runs (runs of a side joined across
+ * consecutive lines), which bound the components of the volume that meet the plane; and the voxels of those of
+ * at most \a maximumSize voxels, the only ones that can be of a small component. */
 template <typename TPixel>
 std::uint64_t
-MostRuns(PlaneReader & input, double isoValue)
+PlaneLabelBytes(const std::vector<TPixel> & plane,
+                std::uint64_t               lineVoxels,
+                double                      isoValue,
+                bool                        fullyConnected,
+                std::uint64_t               maximumSize,
+                PlaneComponents &           components)
+{
+  // NaN is below, as in the filter.
+  const auto isAbove = [isoValue](TPixel value) { return static_cast<double>(value) >= isoValue; };
+  // Diagonal neighbours join runs that only touch at a corner.
+  const std::uint64_t  reach = fullyConnected ? 1 : 0;
+  std::vector<LineRun> previous;
+  std::vector<LineRun> current;
+  components.Parent.clear();
+  components.Voxels.clear();
+  for (std::uint64_t start = 0; start < plane.size(); start += lineVoxels)
+  {
+    current.clear();
+    std::uint64_t begin = 0;
+    for (std::uint64_t x = 1; x <= lineVoxels; ++x)
+    {
+      if (x == lineVoxels || isAbove(plane[start + x]) != isAbove(plane[start + begin]))
+      {
+        current.push_back({ begin, x, components.Parent.size(), isAbove(plane[start + begin]) });
+        components.Parent.push_back(components.Parent.size());
+        components.Voxels.push_back(x - begin);
+        begin = x;
+      }
+    }
+    std::size_t first = 0;
+    for (const LineRun & run : current)
+    {
+      while (first < previous.size() && previous[first].End + reach <= run.Begin)
+      {
+        ++first;
+      }
+      for (std::size_t p = first; p < previous.size() && previous[p].Begin < run.End + reach; ++p)
+      {
+        const std::uint64_t a = components.Root(previous[p].Index);
+        const std::uint64_t b = components.Root(run.Index);
+        if (previous[p].Above == run.Above && a != b)
+        {
+          components.Parent[a] = b;
+          components.Voxels[b] += components.Voxels[a];
+        }
+      }
+    }
+    std::swap(previous, current);
+  }
+  const std::uint64_t runs = components.Parent.size();
+  std::uint64_t       bytes = runs * BytesPerRun;
+  for (std::uint64_t run = 0; run < runs; ++run)
+  {
+    if (components.Parent[run] == run)
+    {
+      const std::uint64_t voxels = components.Voxels[run];
+      bytes += BytesPerComponent + (voxels <= maximumSize ? voxels * BytesPerRepairedVoxel : 0);
+    }
+  }
+  return bytes;
+}
+
+template <typename TPixel>
+std::uint64_t
+MostLabelBytes(PlaneReader & input, double isoValue, bool fullyConnected, std::uint64_t maximumSize)
 {
   const VolumeGeometry & geometry = input.GetGeometry();
-  const std::uint64_t    lineVoxels = geometry.Size[0];
   std::vector<TPixel>    plane(geometry.PlaneVoxels());
+  PlaneComponents        components;
   std::uint64_t          most = 0;
   for (std::uint64_t z = 0; z < geometry.Planes(); ++z)
   {
     input.Read(plane.data(), 1);
-    std::uint64_t runs = 0;
-    for (std::uint64_t start = 0; start < plane.size(); start += lineVoxels)
-    {
-      // NaN is below, as in the filter.
-      bool above = static_cast<double>(plane[start]) >= isoValue;
-      ++runs;
-      for (std::uint64_t x = start + 1; x < start + lineVoxels; ++x)
-      {
-        const bool next = static_cast<double>(plane[x]) >= isoValue;
-        runs += next != above;
-        above = next;
-      }
-    }
-    most = std::max(most, runs);
+    most = std::max(most, PlaneLabelBytes(plane, geometry.Size[0], isoValue, fullyConnected, maximumSize, components));
   }
   input.Finish();
   return most;
@@ -264,12 +353,14 @@ MostRuns(PlaneReader & input, double isoValue)
 } // namespace
 
 std::uint64_t
-MostRunsInAPlane(const std::string & path, double isoValue)
+MostLabelBytesInAPlane(const std::string & path, double isoValue, bool fullyConnected, std::uint64_t maximumSize)
 {
   PlaneReader input(path, "input");
   return DispatchPixelType(
     input.GetGeometry().ComponentType,
-    [&](auto pixel) { return MostRuns<typename decltype(pixel)::PixelType>(input, isoValue); },
+    [&](auto pixel) {
+      return MostLabelBytes<typename decltype(pixel)::PixelType>(input, isoValue, fullyConnected, maximumSize);
+    },
     [&] {
       return ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +
                        " is not supported; expected one of " + SupportedPixelTypes());
@@ -284,7 +375,7 @@ StreamingProcessBytes()
 
 std::uint64_t
 StreamingWorkingBytes(const VolumeGeometry & geometry,
-                      std::uint64_t          runsPerPlane,
+                      std::uint64_t          labelBytesPerPlane,
                       std::uint64_t          maximumSize,
                       std::uint64_t          slabPlanes,
                       unsigned int           workUnits)
@@ -293,14 +384,14 @@ StreamingWorkingBytes(const VolumeGeometry & geometry,
   const uint64_t window =
     std::min(itk::SmallIsoComponentDetail::StreamingSweep<uint8_t>::WindowPlanes(maximumSize, slabPlanes, workUnits),
              geometry.Planes());
-  const uint64_t perPlane = planeVoxels * geometry.PixelBytes() + runsPerPlane * BytesPerRun;
+  const uint64_t perPlane = planeVoxels * geometry.PixelBytes() + labelBytesPerPlane;
   // Beside the window: the slab being read (twice: read, and taken by the sweep) and the planes being written.
   return window * perPlane + 2 * slabPlanes * planeVoxels * geometry.PixelBytes() + 2 * planeVoxels * 2;
 }
 
 std::uint64_t
 SlabPlanesForBudget(const VolumeGeometry & geometry,
-                    std::uint64_t          runsPerPlane,
+                    std::uint64_t          labelBytesPerPlane,
                     std::uint64_t          maximumSize,
                     std::uint64_t          budget,
                     unsigned int           workUnits)
@@ -308,7 +399,7 @@ SlabPlanesForBudget(const VolumeGeometry & geometry,
   uint64_t best = 0;
   for (uint64_t planes = 1; planes <= geometry.Planes(); planes = planes < 8 ? planes + 1 : planes + planes / 4)
   {
-    if (StreamingWorkingBytes(geometry, runsPerPlane, maximumSize, planes, workUnits) > budget)
+    if (StreamingWorkingBytes(geometry, labelBytesPerPlane, maximumSize, planes, workUnits) > budget)
     {
       break;
     }

@@ -36,24 +36,26 @@ ParseByteCount(const std::string & text, const std::string & option);
 unsigned int
 StreamingWorkUnits(const FilterSettings & settings);
 
-/** The most scanline runs (maximal runs of voxels along the first axis on one side of \a isoValue) in
- * any plane of the image \a path, read through once; its labelling's memory grows with them. */
+/** The most bytes the labelling of any plane of the image \a path takes, read through once: it grows with the
+ * plane's scanline runs (maximal runs of voxels along the first axis on one side of \a isoValue), with its
+ * components of runs (with the filter's connectivity, \a fullyConnected or by faces), which bound the
+ * components of the volume that meet the plane, and with the voxels of those that may be small (at most \a
+ * maximumSize voxels), which may be repaired. */
 std::uint64_t
-MostRunsInAPlane(const std::string & path, double isoValue);
+MostLabelBytesInAPlane(const std::string & path, double isoValue, bool fullyConnected, std::uint64_t maximumSize);
 
 /** The bytes the process holds beside the window of planes while it streams: what it holds now (libraries, the
  * tool) and what a run adds (its threads' stacks, the readers' and writers' buffers). */
 std::uint64_t
 StreamingProcessBytes();
 
-/** The bytes of memory the streaming mode holds for an image of \a geometry with at most \a runsPerPlane
- * scanline runs in a plane, slabs of \a slabPlanes planes, components of at most \a maximumSize voxels and
- * \a workUnits work units: the planes of the window (never more than the image's), their voxels and the
- * labelling of their runs as if every run were a component of its own, removed and repaired (the most a run
- * can take), and the planes being read and written. */
+/** The bytes of memory the streaming mode holds for an image of \a geometry whose planes' labelling takes at
+ * most \a labelBytesPerPlane bytes (MostLabelBytesInAPlane), slabs of \a slabPlanes planes, components of at
+ * most \a maximumSize voxels and \a workUnits work units: the planes of the window (never more than the
+ * image's), their voxels and their labelling, and the planes being read and written. */
 std::uint64_t
 StreamingWorkingBytes(const VolumeGeometry & geometry,
-                      std::uint64_t          runsPerPlane,
+                      std::uint64_t          labelBytesPerPlane,
                       std::uint64_t          maximumSize,
                       std::uint64_t          slabPlanes,
                       unsigned int           workUnits);
@@ -62,7 +64,7 @@ StreamingWorkingBytes(const VolumeGeometry & geometry,
  * \a budget bytes, or 0 when even slabs of one plane do not fit. */
 std::uint64_t
 SlabPlanesForBudget(const VolumeGeometry & geometry,
-                    std::uint64_t          runsPerPlane,
+                    std::uint64_t          labelBytesPerPlane,
                     std::uint64_t          maximumSize,
                     std::uint64_t          budget,
                     unsigned int           workUnits);

@@ -143,6 +143,23 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                 with self.subTest(name=name, limit=limit):
                     self.assertWithinLimitOrRefused(self.path(name), limit, "--max-size", "2", "--threads", "1")
 
+    def test_many_runs_of_few_components_are_planned_near_their_peak(self):
+        """Stripes have a run at every voxel but only a few long components, as smooth volumes have far more runs
+        than components: the memory the tool says it needs is enough and not much more than the run takes."""
+        self.skip_unless_memory_is_measurable()
+        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 384 256 32\nendian: little\nencoding: raw\n\n"
+        with open(self.path("stripes.nrrd"), "wb") as file:
+            file.write(header.encode() + bytes([0, 200]) * 192 * 256 * 32)
+        arguments = [FILTER, self.path("stripes.nrrd"), self.path("out.mha"), "--isovalue", "128", "--max-size", "2",
+                     "--threads", "1", "--quiet", "--memory-limit"]
+        status, stderr, _ = self.measured_run(*arguments, "1M")
+        self.assertEqual(status, USAGE_ERROR, stderr)
+        needed = int(re.search(r"needs about (\d+) MiB", stderr).group(1))
+        status, stderr, peak = self.measured_run(*arguments, "%dM" % needed)
+        self.assertEqual(status, 0, stderr)
+        self.assertLessEqual(peak, 1.1 * (needed << 20), "peak %.1f MiB, needs %d MiB" % (peak / 2 ** 20, needed))
+        self.assertLessEqual(needed << 20, 1.6 * peak, "peak %.1f MiB, needs %d MiB" % (peak / 2 ** 20, needed))
+
     def test_the_window_is_never_deeper_than_the_image(self):
         """A K far larger than the image's depth needs no more than the whole image's planes."""
         self.skip_unless_memory_is_measurable()
