@@ -22,6 +22,7 @@
 
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
+#include "itkSmallIsoComponentThreshold.h"
 
 #include <algorithm>
 #include <chrono>
@@ -272,15 +273,13 @@ struct PlaneComponents
  * at most \a maximumSize voxels, the only ones that can be of a small component. */
 template <typename TPixel>
 std::uint64_t
-PlaneLabelBytes(const std::vector<TPixel> & plane,
-                std::uint64_t               lineVoxels,
-                double                      isoValue,
-                bool                        fullyConnected,
-                std::uint64_t               maximumSize,
-                PlaneComponents &           components)
+PlaneLabelBytes(const std::vector<TPixel> &                             plane,
+                std::uint64_t                                           lineVoxels,
+                const itk::SmallIsoComponentDetail::Threshold<TPixel> & threshold,
+                bool                                                    fullyConnected,
+                std::uint64_t                                           maximumSize,
+                PlaneComponents &                                       components)
 {
-  // NaN is below, as in the filter.
-  const auto isAbove = [isoValue](TPixel value) { return static_cast<double>(value) >= isoValue; };
   // Diagonal neighbours join runs that only touch at a corner.
   const std::uint64_t  reach = fullyConnected ? 1 : 0;
   std::vector<LineRun> previous;
@@ -290,16 +289,14 @@ PlaneLabelBytes(const std::vector<TPixel> & plane,
   for (std::uint64_t start = 0; start < plane.size(); start += lineVoxels)
   {
     current.clear();
-    std::uint64_t begin = 0;
-    for (std::uint64_t x = 1; x <= lineVoxels; ++x)
+    const TPixel * line = plane.data() + start;
+    for (std::uint64_t begin = 0, end = 0; begin < lineVoxels; begin = end)
     {
-      if (x == lineVoxels || isAbove(plane[start + x]) != isAbove(plane[start + begin]))
-      {
-        current.push_back({ begin, x, components.Parent.size(), isAbove(plane[start + begin]) });
-        components.Parent.push_back(components.Parent.size());
-        components.Voxels.push_back(x - begin);
-        begin = x;
-      }
+      const bool above = threshold.IsAbove(line[begin]);
+      end = threshold.NextSideChange(line, begin + 1, lineVoxels, above);
+      current.push_back({ begin, end, components.Parent.size(), above });
+      components.Parent.push_back(components.Parent.size());
+      components.Voxels.push_back(end - begin);
     }
     std::size_t first = 0;
     for (const LineRun & run : current)
@@ -341,11 +338,13 @@ MostLabelBytes(PlaneReader & input, double isoValue, bool fullyConnected, std::u
   const VolumeGeometry & geometry = input.GetGeometry();
   std::vector<TPixel>    plane(geometry.PlaneVoxels());
   PlaneComponents        components;
-  std::uint64_t          most = 0;
+  // The filter's own classification: NaN is below.
+  const itk::SmallIsoComponentDetail::Threshold<TPixel> threshold(isoValue);
+  std::uint64_t                                         most = 0;
   for (std::uint64_t z = 0; z < geometry.Planes(); ++z)
   {
     input.Read(plane.data(), 1);
-    most = std::max(most, PlaneLabelBytes(plane, geometry.Size[0], isoValue, fullyConnected, maximumSize, components));
+    most = std::max(most, PlaneLabelBytes(plane, geometry.Size[0], threshold, fullyConnected, maximumSize, components));
   }
   input.Finish();
   return most;
