@@ -20,6 +20,8 @@
 #include "sicImageFileParts.h"
 
 #include "itkImageIOFactory.h"
+#include "vnl/algo/vnl_determinant.h"
+#include "vnl/vnl_matrix.h"
 
 #include <algorithm>
 #include <cmath>
@@ -182,17 +184,14 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
                       std::to_string(axis) + "; expected a nonzero, finite spacing along every axis");
     }
   }
-  // ITK's reader refuses a direction matrix of determinant (exactly) 0 only when it reads the voxels too.
-  std::vector<std::vector<double>> direction;
+  // ITK's reader refuses a direction matrix of determinant (exactly) 0 only when it reads the voxels too; the same
+  // test as ITK's, so that both modes refuse the same files.
+  vnl_matrix<double> direction(info.Dimension, info.Dimension);
   for (unsigned int axis = 0; axis < info.Dimension; ++axis)
   {
-    direction.push_back(io->GetDirection(axis));
+    direction.set_column(axis, io->GetDirection(axis).data());
   }
-  const auto & d = direction;
-  const double determinant = info.Dimension == 2 ? d[0][0] * d[1][1] - d[1][0] * d[0][1]
-                                                 : d[0][0] * (d[1][1] * d[2][2] - d[2][1] * d[1][2]) -
-                                                     d[1][0] * (d[0][1] * d[2][2] - d[2][1] * d[0][2]) +
-                                                     d[2][0] * (d[0][1] * d[1][2] - d[1][1] * d[0][2]);
+  const double determinant = vnl_determinant(direction);
   if (determinant == 0.0)
   {
     throw ToolError(what + " " + quoted +
