@@ -572,6 +572,65 @@ StreamingLimit(const sic::FilterSettings & settings, const sic::ScalarImageInfo 
   return 0;
 }
 
+/** How a streamed run fits its limit: its slabs, and the figures a refusal gives. */
+struct StreamingPlan
+{
+  std::uint64_t SlabPlanes{ 0 };
+  /** The process itself, with its threads and buffers. */
+  std::uint64_t ProcessBytes{ 0 };
+  /** The most the run may hold: the window's bound with slabs of one plane. */
+  std::uint64_t BoundBytes{ 0 };
+};
+
+/** The error for a limit too small for this image, saying \a why, the bound and what to change. The figures
+ * have a MiB to spare: the process's own size varies from run to run by a fraction of one. */
+sic::ToolError
+LimitTooSmall(std::uint64_t limit, std::uint64_t maximumSize, const StreamingPlan & plan, const std::string & why)
+{
+  return sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
+                        " MiB is too small to stream this image with K = " + std::to_string(maximumSize) + ": " + why +
+                        " and at most about " + std::to_string((plan.BoundBytes >> 20) + 2) +
+                        " MiB; expected a larger limit or a smaller K");
+}
+
+/** The slabs to stream the input in within \a limit bytes. The window's bound holds 2K planes beyond each slab,
+ * where the components that span so many planes are rare: when it does not fit, the run is tried in thin slabs,
+ * which leave most of the limit to the window the data really need, and stops if it passes the limit. */
+StreamingPlan
+PlanStreaming(const sic::FilterSettings & settings,
+              const sic::VolumeGeometry & geometry,
+              std::uint64_t               maximumSize,
+              std::uint64_t               limit)
+{
+  // The plan holds for any data: it counts the input's scanline runs and their components first, reading it once
+  // more.
+  const std::uint64_t labelBytes =
+    sic::MostLabelBytesInAPlane(settings.Input, settings.IsoValue, settings.FullyConnected, maximumSize);
+  const unsigned int workUnits = sic::StreamingWorkUnits(settings);
+  StreamingPlan      plan;
+  plan.ProcessBytes = sic::StreamingProcessBytes();
+  plan.BoundBytes = plan.ProcessBytes + sic::StreamingWorkingBytes(geometry, labelBytes, maximumSize, 1, workUnits);
+  const std::uint64_t budget = limit > plan.ProcessBytes ? limit - plan.ProcessBytes : 0;
+  plan.SlabPlanes = sic::SlabPlanesForBudget(geometry, labelBytes, maximumSize, budget, workUnits);
+  const std::uint64_t leastWindow = sic::StreamingWorkingBytes(geometry, labelBytes, 0, 1, workUnits);
+  if (plan.SlabPlanes == 0 && leastWindow <= budget)
+  {
+    plan.SlabPlanes =
+      std::max<std::uint64_t>(1, sic::SlabPlanesForBudget(geometry, labelBytes, 0, budget / 4, workUnits));
+  }
+  if (plan.SlabPlanes == 0)
+  {
+    throw LimitTooSmall(limit,
+                        maximumSize,
+                        plan,
+                        "it needs about " + std::to_string(((plan.ProcessBytes + leastWindow) >> 20) + 2) +
+                          " MiB with the shallowest window (the process itself " +
+                          std::to_string((plan.ProcessBytes >> 20) + 1) + " MiB, a slab of one plane " +
+                          std::to_string((leastWindow >> 20) + 1) + " MiB)");
+  }
+  return plan;
+}
+
 /** The streaming mode: the image read, filtered and written plane by plane within \a limit bytes. */
 sic::FilterReport
 FilterStreamed(const sic::FilterSettings & settings,
@@ -592,25 +651,7 @@ FilterStreamed(const sic::FilterSettings & settings,
     maximumSize =
       itk::SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(*settings.MaximumVolume, voxelVolume);
   }
-  // The plan holds for any data: it counts the input's scanline runs and their components first, reading it once
-  // more.
-  const std::uint64_t labelBytes =
-    sic::MostLabelBytesInAPlane(settings.Input, settings.IsoValue, settings.FullyConnected, maximumSize);
-  const std::uint64_t baseline = sic::StreamingProcessBytes();
-  const std::uint64_t budget = limit > baseline ? limit - baseline : 0;
-  const unsigned int  workUnits = sic::StreamingWorkUnits(settings);
-  const std::uint64_t slabPlanes = sic::SlabPlanesForBudget(geometry, labelBytes, maximumSize, budget, workUnits);
-  if (slabPlanes == 0)
-  {
-    // The figure has a MiB to spare: the process's own size varies from run to run by a fraction of one.
-    const std::uint64_t window = sic::StreamingWorkingBytes(geometry, labelBytes, maximumSize, 1, workUnits);
-    throw sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
-                         " MiB is too small to stream this image with K = " + std::to_string(maximumSize) +
-                         ": it needs about " + std::to_string(((baseline + window) >> 20) + 2) +
-                         " MiB (the process itself " + std::to_string((baseline >> 20) + 1) +
-                         " MiB, the window of planes " + std::to_string((window >> 20) + 1) +
-                         " MiB); expected a larger limit or a smaller K");
-  }
+  const StreamingPlan plan = PlanStreaming(settings, geometry, maximumSize, limit);
   if (!settings.Compress)
   {
     // Uncompressed outputs have a known size: make sure the disk has room before the long run.
@@ -626,14 +667,28 @@ FilterStreamed(const sic::FilterSettings & settings,
   }
   progress.Stage("removing small components plane by plane", 0.0, 1.0);
   sic::FilterReport report;
-  sic::RunStreamedFilter(
-    input,
-    settings,
-    { staged.Image, staged.RemovedMask },
-    maximumSize,
-    slabPlanes,
-    [&](double done) { progress.Update(done); },
-    report);
+  try
+  {
+    sic::RunStreamedFilter(
+      input,
+      settings,
+      { staged.Image, staged.RemovedMask },
+      maximumSize,
+      plan.SlabPlanes,
+      limit,
+      [&](double done) { progress.Update(done); },
+      report);
+  }
+  catch (const sic::MemoryLimitPassed & passed)
+  {
+    throw LimitTooSmall(limit,
+                        maximumSize,
+                        plan,
+                        "the run passed it after " + std::to_string(passed.Planes) + " of " +
+                          std::to_string(geometry.Planes()) + " planes, holding " +
+                          std::to_string(passed.PeakBytes >> 20) + " MiB (the process itself " +
+                          std::to_string((plan.ProcessBytes >> 20) + 1) + " MiB), so it needs more");
+  }
   report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
   report.MemoryLimit = limit;
   return report;

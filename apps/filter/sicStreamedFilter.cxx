@@ -76,6 +76,7 @@ RunStreamed(PlaneReader &                       input,
             const StreamedOutputs &             outputs,
             std::uint64_t                       maximumSize,
             std::uint64_t                       slabPlanes,
+            std::uint64_t                       memoryLimit,
             const std::function<void(double)> & progress,
             FilterReport &                      report)
 {
@@ -133,6 +134,11 @@ RunStreamed(PlaneReader &                       input,
     reading += Clock::now() - readStart;
     sweep.Push(slab.data(), count);
     done += count;
+    const std::uint64_t peak = PeakResidentBytes();
+    if (memoryLimit > 0 && peak > memoryLimit && done < planes)
+    {
+      throw MemoryLimitPassed{ done, peak };
+    }
   }
   input.Finish();
   sweep.Finish();
@@ -413,6 +419,7 @@ RunStreamedFilter(PlaneReader &                       input,
                   const StreamedOutputs &             outputs,
                   std::uint64_t                       maximumSize,
                   std::uint64_t                       slabPlanes,
+                  std::uint64_t                       memoryLimit,
                   const std::function<void(double)> & progress,
                   FilterReport &                      report)
 {
@@ -420,7 +427,7 @@ RunStreamedFilter(PlaneReader &                       input,
     input.GetGeometry().ComponentType,
     [&](auto pixel) {
       RunStreamed<typename decltype(pixel)::PixelType>(
-        input, settings, outputs, maximumSize, slabPlanes, progress, report);
+        input, settings, outputs, maximumSize, slabPlanes, memoryLimit, progress, report);
     },
     [&] {
       return ToolError("cannot stream the input: pixel type " + PixelTypeName(input.GetGeometry().ComponentType) +

@@ -76,15 +76,26 @@ struct StreamedOutputs
   std::string RemovedMask;
 };
 
+/** Thrown by RunStreamedFilter() when the process's peak resident size passed its memory limit before the
+ * last plane: after \a Planes planes, at \a PeakBytes bytes. */
+struct MemoryLimitPassed
+{
+  std::uint64_t Planes;
+  std::uint64_t PeakBytes;
+};
+
 /** Filters \a input into the staged outputs plane by plane with slabs of \a slabPlanes planes and
  * components of at most \a maximumSize voxels, never holding the whole image; fills \a report
- * (statistics, times of reading, filtering and writing). \a progress receives the fraction done. */
+ * (statistics, times of reading, filtering and writing). \a progress receives the fraction done. With a
+ * \a memoryLimit (bytes; 0 for none) the process's peak resident size is watched after every slab, and the run
+ * stops with MemoryLimitPassed when it passes the limit. */
 void
 RunStreamedFilter(PlaneReader &                       input,
                   const FilterSettings &              settings,
                   const StreamedOutputs &             outputs,
                   std::uint64_t                       maximumSize,
                   std::uint64_t                       slabPlanes,
+                  std::uint64_t                       memoryLimit,
                   const std::function<void(double)> & progress,
                   FilterReport &                      report);
 } // namespace sic

@@ -117,9 +117,11 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         status, stderr, peak = self.measured_run(*arguments, "--memory-limit", "%dM" % limit)
         if status == USAGE_ERROR:
             self.assertEqual(len(stderr.splitlines()), 1, stderr)
-            needed = re.search(r"needs about (\d+) MiB", stderr)
+            self.assertLessEqual(peak, slack * (limit << 20), "peak %.1f MiB, limit %d MiB" % (peak / 2 ** 20, limit))
+            needed = re.search(r"at most about (\d+) MiB", stderr)
             self.assertIsNotNone(needed, stderr)
             self.assertFalse(os.path.exists(output))
+            self.assertEqual(self.staging_leftovers(self.path()), [])
             self.assertGreater(int(needed.group(1)), limit, stderr)
             limit = int(needed.group(1))
             status, stderr, peak = self.measured_run(*arguments, "--memory-limit", "%dM" % limit)
@@ -154,7 +156,7 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                      "--threads", "1", "--quiet", "--memory-limit"]
         status, stderr, _ = self.measured_run(*arguments, "1M")
         self.assertEqual(status, USAGE_ERROR, stderr)
-        needed = int(re.search(r"needs about (\d+) MiB", stderr).group(1))
+        needed = int(re.search(r"at most about (\d+) MiB", stderr).group(1))
         status, stderr, peak = self.measured_run(*arguments, "%dM" % needed)
         self.assertEqual(status, 0, stderr)
         self.assertLessEqual(peak, 1.1 * (needed << 20), "peak %.1f MiB, needs %d MiB" % (peak / 2 ** 20, needed))
@@ -171,6 +173,58 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         self.assertEqual(status, 0, stderr)
         self.assertLessEqual(peak, 256 << 20)
         self.assertSameImages(self.path("streamed.nrrd"), self.path("memory.nrrd"))
+
+    def test_a_window_far_below_its_bound_is_not_refused(self):
+        """With K far larger than a plane the window's bound is the whole image, yet the phantom's components
+        close within a few planes: a limit the shallowest window fits in is tried and kept, not refused."""
+        self.skip_unless_memory_is_measurable()
+        source = self.phantom("96")
+        self.check(run(FILTER, source, self.path("memory.nrrd"), "--isovalue", ISOVALUE, "--max-size", "100000",
+                       "--quiet"))
+        arguments = [FILTER, source, self.path("streamed.nrrd"), "--isovalue", ISOVALUE, "--max-size", "100000",
+                     "--quiet", "--memory-limit"]
+        status, stderr, _ = self.measured_run(*arguments, "1M")
+        self.assertEqual(status, USAGE_ERROR, stderr)
+        least = int(re.search(r"needs about (\d+) MiB with the shallowest window", stderr).group(1))
+        most = int(re.search(r"at most about (\d+) MiB", stderr).group(1))
+        self.assertGreater(most, least + 8, stderr)
+        status, stderr, peak = self.measured_run(*arguments, "%dM" % least)
+        self.assertEqual(status, 0, stderr)
+        self.assertLessEqual(peak, 1.1 * (least << 20), "peak %.1f MiB, limit %d MiB" % (peak / 2 ** 20, least))
+        self.assertSameImages(self.path("streamed.nrrd"), self.path("memory.nrrd"))
+
+    def test_a_run_that_passes_the_limit_stops_and_leaves_nothing(self):
+        """A line of one voxel per plane through the whole image is a small component that stays open to the
+        last plane, so the window holds every plane: a limit between the shallowest window and the bound is
+        tried, and the run stops when it passes the limit, saying so in one line and leaving no output."""
+        self.skip_unless_memory_is_measurable()
+        plane = bytearray(512 * 512)
+        plane[256 * 512 + 256] = 200
+        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 512 512 96\nendian: little\nencoding: raw\n\n"
+        # Plane by plane: a measured child's peak counts the test's own size when that is larger.
+        with open(self.path("line.nrrd"), "wb") as file:
+            file.write(header.encode())
+            for _ in range(96):
+                file.write(plane)
+        output = self.path("out.nrrd")
+        arguments = [FILTER, self.path("line.nrrd"), output, "--isovalue", "128", "--max-size", "1000", "--quiet",
+                     "--removed-mask", self.path("mask.nrrd"), "--memory-limit"]
+        status, stderr, _ = self.measured_run(*arguments, "1M")
+        least = int(re.search(r"needs about (\d+) MiB with the shallowest window", stderr).group(1))
+        most = int(re.search(r"at most about (\d+) MiB", stderr).group(1))
+        limit = least + 4
+        self.assertLess(limit + 8, most, stderr)
+        status, stderr, peak = self.measured_run(*arguments, "%dM" % limit)
+        self.assertEqual(status, USAGE_ERROR, stderr)
+        self.assertEqual(len(stderr.splitlines()), 1, stderr)
+        self.assertRegex(stderr, r"the run passed it after \d+ of 96 planes")
+        self.assertLessEqual(peak, 1.1 * (limit << 20), "peak %.1f MiB, limit %d MiB" % (peak / 2 ** 20, limit))
+        self.assertFalse(os.path.exists(output))
+        self.assertFalse(os.path.exists(self.path("mask.nrrd")))
+        self.assertEqual(self.staging_leftovers(self.path()), [])
+        status, stderr, peak = self.measured_run(*arguments, "%dM" % most)
+        self.assertEqual(status, 0, stderr)
+        self.assertLessEqual(peak, most << 20, "peak %.1f MiB, limit %d MiB" % (peak / 2 ** 20, most))
 
     def test_limits_near_the_process_size_are_kept_or_refused(self):
         """The process itself (libraries, buffers, threads) holds tens of MiB: a limit near that size is either
