@@ -6,6 +6,7 @@ smalliso_packages=(
   libinsighttoolkit5-dev  # ITK 5.2.1
   libgtest-dev            # GoogleTest
   zlib1g-dev              # the tools' streamed image files
+  nlohmann-json3-dev      # the tools' JSON (statistics, report), header only
   python3                 # test helpers (XML and JSON checks)
   clang-format            # the format check of scripts/test.sh
   gnuplot-nox             # SmallIsoComponentReport --plot

@@ -16,41 +16,27 @@
  *
  *=========================================================================*/
 #include "sicFilterReport.h"
-#include "sicJsonWriter.h"
 
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace sic
 {
 namespace
 {
-void
-WriteSide(JsonWriter & json, const SideReport & side)
+nlohmann::ordered_json
+SideJson(const SideReport & side)
 {
-  json.BeginObject();
-  json.Key("components").Number(side.Components);
-  json.Key("removed_components").Number(side.RemovedComponents);
-  json.Key("removed_voxels").Number(side.RemovedVoxels);
-  json.Key("size_histogram").BeginArray();
+  nlohmann::ordered_json histogram = nlohmann::ordered_json::array();
   for (const auto & [size, count] : side.Histogram)
   {
-    json.BeginArray().Number(size).Number(count).EndArray();
+    histogram.push_back({ size, count });
   }
-  json.EndArray();
-  json.EndObject();
-}
-
-template <typename T>
-void
-WriteArray(JsonWriter & json, const std::vector<T> & values)
-{
-  json.BeginArray();
-  for (const T value : values)
-  {
-    json.Number(value);
-  }
-  json.EndArray();
+  return { { "components", side.Components },
+           { "removed_components", side.RemovedComponents },
+           { "removed_voxels", side.RemovedVoxels },
+           { "size_histogram", std::move(histogram) } };
 }
 
 double
@@ -129,108 +115,74 @@ WriteStatisticsJson(std::ostream &         out,
                     const FilterSettings & settings,
                     const FilterReport &   report)
 {
-  JsonWriter json(out);
-  json.BeginObject();
-  json.Key("tool").String(toolName);
-  json.Key("version").String(version);
+  using Json = nlohmann::ordered_json;
+  Json input = { { "path", settings.Input },
+                 { "pixel_type", PixelTypeName(report.Input.ComponentType) },
+                 { "dimension", report.Input.Dimension },
+                 { "size", report.Input.Size },
+                 { "spacing", report.Input.Spacing },
+                 { "origin", report.Input.Origin },
+                 { "voxel_volume", VoxelVolume(report.Input) } };
 
-  json.Key("input").BeginObject();
-  json.Key("path").String(settings.Input);
-  json.Key("pixel_type").String(PixelTypeName(report.Input.ComponentType));
-  json.Key("dimension").Number(static_cast<std::uint64_t>(report.Input.Dimension));
-  json.Key("size");
-  WriteArray(json, report.Input.Size);
-  json.Key("spacing");
-  WriteArray(json, report.Input.Spacing);
-  json.Key("origin");
-  WriteArray(json, report.Input.Origin);
-  json.Key("voxel_volume").Number(VoxelVolume(report.Input));
-  json.EndObject();
-
-  json.Key("outputs").BeginObject();
-  json.Key("image").String(settings.Output);
-  json.Key("removed_mask");
-  if (settings.RemovedMask.empty())
-  {
-    json.Null();
-  }
-  else
-  {
-    json.String(settings.RemovedMask);
-  }
-  json.Key("stats").String(settings.Stats);
+  Json outputs = { { "image", settings.Output },
+                   { "removed_mask", settings.RemovedMask.empty() ? Json() : Json(settings.RemovedMask) },
+                   { "stats", settings.Stats } };
   for (const auto & [key, path] : { std::make_pair("surface", &settings.Surface),
                                     std::make_pair("surface_before", &settings.SurfaceBefore),
                                     std::make_pair("render", &settings.Render) })
   {
     if (!path->empty())
     {
-      json.Key(key).String(*path);
+      outputs[key] = *path;
     }
   }
-  json.EndObject();
 
-  json.Key("parameters").BeginObject();
-  json.Key("isovalue").Number(settings.IsoValue);
-  json.Key("max_size");
-  if (settings.UsesVolume())
-  {
-    json.Null();
-  }
-  else
-  {
-    json.Number(settings.MaximumSize);
-  }
+  Json parameters = { { "isovalue", settings.IsoValue },
+                      { "max_size", settings.UsesVolume() ? Json() : Json(settings.MaximumSize) } };
   if (settings.MaximumVolume)
   {
-    json.Key("max_volume").Number(*settings.MaximumVolume);
+    parameters["max_volume"] = *settings.MaximumVolume;
   }
-  json.Key("effective_max_size").Number(report.EffectiveMaximumSize);
-  json.Key("side").String(settings.Side);
-  json.Key("connectivity").String(settings.FullyConnected ? "full" : "face");
-  json.Key("threads").Number(report.Threads);
-  json.Key("work_units").Number(report.WorkUnits);
-  json.EndObject();
+  parameters["effective_max_size"] = report.EffectiveMaximumSize;
+  parameters["side"] = settings.Side;
+  parameters["connectivity"] = settings.FullyConnected ? "full" : "face";
+  parameters["threads"] = report.Threads;
+  parameters["work_units"] = report.WorkUnits;
 
-  json.Key("statistics").BeginObject();
-  json.Key("above");
-  WriteSide(json, report.Above);
-  json.Key("below");
-  WriteSide(json, report.Below);
-  json.Key("modified_voxels").Number(report.ModifiedVoxels);
-  json.Key("unrepairable_voxels").Number(report.UnrepairableVoxels);
-  json.Key("seconds").Number(report.FilterSeconds);
-  json.Key("total_seconds").Number(report.TotalSeconds);
-  json.Key("peak_extra_bytes").Number(report.PeakExtraBytes);
-  json.Key("mode").String(report.Streaming ? "streaming" : "in-memory");
-  json.Key("memory_limit_bytes");
-  if (report.MemoryLimit > 0)
-  {
-    json.Number(report.MemoryLimit);
-  }
-  else
-  {
-    json.Null();
-  }
-  json.Key("slab_planes").Number(report.SlabPlanes);
+  Json statistics = { { "above", SideJson(report.Above) },
+                      { "below", SideJson(report.Below) },
+                      { "modified_voxels", report.ModifiedVoxels },
+                      { "unrepairable_voxels", report.UnrepairableVoxels },
+                      { "seconds", report.FilterSeconds },
+                      { "total_seconds", report.TotalSeconds },
+                      { "peak_extra_bytes", report.PeakExtraBytes },
+                      { "mode", report.Streaming ? "streaming" : "in-memory" },
+                      { "memory_limit_bytes", report.MemoryLimit > 0 ? Json(report.MemoryLimit) : Json() },
+                      { "slab_planes", report.SlabPlanes } };
   if (report.Streaming)
   {
-    json.Key("read_seconds").Number(report.ReadSeconds);
-    json.Key("write_seconds").Number(report.WriteSeconds);
+    statistics["read_seconds"] = report.ReadSeconds;
+    statistics["write_seconds"] = report.WriteSeconds;
   }
-  json.Key("peak_resident_bytes").Number(report.PeakResidentBytes);
+  statistics["peak_resident_bytes"] = report.PeakResidentBytes;
   for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &report.SurfacePiecesBefore),
                                       std::make_pair("surface_components_after", &report.SurfacePiecesAfter),
                                       std::make_pair("removed_surface_components", &report.RemovedSurfacePieces) })
   {
     if (*pieces)
     {
-      json.Key(key).Number(**pieces);
+      statistics[key] = **pieces;
     }
   }
-  json.EndObject();
 
-  json.EndObject();
-  json.Finish();
+  const Json document = { { "tool", toolName },
+                          { "version", version },
+                          { "input", std::move(input) },
+                          { "outputs", std::move(outputs) },
+                          { "parameters", std::move(parameters) },
+                          { "statistics", std::move(statistics) } };
+  // NaN and infinities become null; bytes of a path that are not UTF-8 become U+FFFD, so the
+  // file stays valid JSON rather than the run failing after its work is done.
+  out << document.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
 }
 } // namespace sic

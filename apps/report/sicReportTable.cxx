@@ -17,10 +17,9 @@
  *=========================================================================*/
 #include "sicReportTable.h"
 
-#include "sicJsonWriter.h"
-
 #include <charconv>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 namespace sic
 {
@@ -50,42 +49,31 @@ CsvField(const std::string & text)
   return quoted + "\"";
 }
 
-void
-WriteSideJson(JsonWriter & json, const SideRow & side, const std::vector<std::uint64_t> & maximumSizes)
+nlohmann::ordered_json
+SideJson(const SideRow & side, const std::vector<std::uint64_t> & maximumSizes)
 {
-  json.BeginObject().Key("components").Number(side.Components).Key("by_size").BeginArray();
+  nlohmann::ordered_json bySize = nlohmann::ordered_json::array();
   for (size_t k = 0; k < maximumSizes.size(); ++k)
   {
-    json.BeginObject()
-      .Key("max_size")
-      .Number(maximumSizes[k])
-      .Key("removed_components")
-      .Number(side.RemovedComponents[k])
-      .Key("modified_voxels")
-      .Number(side.ModifiedVoxels[k])
-      .EndObject();
+    bySize.push_back({ { "max_size", maximumSizes[k] },
+                       { "removed_components", side.RemovedComponents[k] },
+                       { "modified_voxels", side.ModifiedVoxels[k] } });
   }
-  json.EndArray().EndObject();
+  return { { "components", side.Components }, { "by_size", std::move(bySize) } };
 }
 
-void
-WriteFilteredJson(JsonWriter & json, const FilteredRow & filtered, const std::vector<std::uint64_t> & maximumSizes)
+nlohmann::ordered_json
+FilteredJson(const FilteredRow & filtered, const std::vector<std::uint64_t> & maximumSizes)
 {
-  json.BeginObject().Key("side").String("both").Key("by_size").BeginArray();
+  nlohmann::ordered_json bySize = nlohmann::ordered_json::array();
   for (size_t k = 0; k < maximumSizes.size(); ++k)
   {
-    json.BeginObject()
-      .Key("max_size")
-      .Number(maximumSizes[k])
-      .Key("removed_components")
-      .Number(filtered.RemovedComponents[k])
-      .Key("modified_voxels")
-      .Number(filtered.ModifiedVoxels[k])
-      .Key("surface_components_after")
-      .Number(filtered.SurfacePiecesAfter[k])
-      .EndObject();
+    bySize.push_back({ { "max_size", maximumSizes[k] },
+                       { "removed_components", filtered.RemovedComponents[k] },
+                       { "modified_voxels", filtered.ModifiedVoxels[k] },
+                       { "surface_components_after", filtered.SurfacePiecesAfter[k] } });
   }
-  json.EndArray().EndObject();
+  return { { "side", "both" }, { "by_size", std::move(bySize) } };
 }
 
 bool
@@ -220,33 +208,27 @@ WriteReportCsv(std::ostream & stream, const Report & report)
 void
 WriteReportJson(std::ostream & stream, const Report & report)
 {
-  JsonWriter json(stream);
-  json.BeginObject().Key("input").String(report.Input).Key("size").BeginArray();
-  for (const std::uint64_t extent : report.Size)
-  {
-    json.Number(extent);
-  }
-  json.EndArray().Key("connectivity").String(report.FullyConnected ? "full" : "face").Key("rows").BeginArray();
+  using Json = nlohmann::ordered_json;
+  Json rows = Json::array();
   for (const ReportRow & row : report.Rows)
   {
-    json.BeginObject()
-      .Key("isovalue")
-      .Number(row.IsoValue)
-      .Key("active_cubes")
-      .Number(row.ActiveCubes)
-      .Key("total_components")
-      .Number(row.TotalComponents())
-      .Key("above");
-    WriteSideJson(json, row.Above, report.MaximumSizes);
-    json.Key("below");
-    WriteSideJson(json, row.Below, report.MaximumSizes);
+    Json json = { { "isovalue", row.IsoValue },
+                  { "active_cubes", row.ActiveCubes },
+                  { "total_components", row.TotalComponents() },
+                  { "above", SideJson(row.Above, report.MaximumSizes) },
+                  { "below", SideJson(row.Below, report.MaximumSizes) } };
     if (row.Filtered)
     {
-      json.Key("surface_components_before").Number(row.Filtered->SurfacePiecesBefore).Key("filtered");
-      WriteFilteredJson(json, *row.Filtered, report.MaximumSizes);
+      json["surface_components_before"] = row.Filtered->SurfacePiecesBefore;
+      json["filtered"] = FilteredJson(*row.Filtered, report.MaximumSizes);
     }
-    json.EndObject();
+    rows.push_back(std::move(json));
   }
-  json.EndArray().EndObject().Finish();
+  const Json document = { { "input", report.Input },
+                          { "size", report.Size },
+                          { "connectivity", report.FullyConnected ? "full" : "face" },
+                          { "rows", std::move(rows) } };
+  // As the filter's statistics: null for NaN, U+FFFD for bytes of the input's path that are not UTF-8.
+  stream << document.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
 }
 } // namespace sic

@@ -174,6 +174,17 @@ class SmallIsoComponentCLITest(ToolTestCase):
         self.assertEqual(document["integers"], [2**64 - 1, -2**63])
         self.assertEqual(document['text "quoted"'], "back\\slash, tab\t, newline\n, bell\a, mm³")
         self.assertEqual(document["nested"], [[1, 2], {"empty": []}])
+        # Bytes that are not UTF-8 (a path can hold them) become U+FFFD: the document stays valid JSON.
+        self.assertEqual(document["not UTF-8"], "a\ufffd\ufffd b")
+
+    def test_stats_json_stays_valid_for_a_path_that_is_not_utf8(self):
+        # A file name may hold any bytes; in the JSON those that are not UTF-8 become U+FFFD.
+        phantom = self.path(os.fsdecode(b"phantom-\xff.nrrd"))
+        os.rename(self.make_phantom(), phantom)
+        stats = self.path("stats.json")
+        self.check(run(FILTER, phantom, self.path("out.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--stats", stats,
+                       "--quiet"))
+        self.assertEqual(load_json(stats)["input"]["path"], phantom.replace("\udcff", "\ufffd"))
 
     def test_max_volume_in_cubic_millimetres(self):
         phantom = self.make_phantom()

@@ -24,15 +24,15 @@
 //   info FILE                  header as JSON: pixel_type, dimension, size, spacing, origin
 //   count-nonzero FILE         number of nonzero voxels
 //   equal FILE1 FILE2          exit 0 if the grids and all voxel values are the same
-//   json-sample                awkward values through sic::JsonWriter (NaN, infinities,
-//                              doubles that need 17 digits, 64-bit integers, escapes)
+//   json-sample                awkward values written as the tools write JSON (NaN,
+//                              infinities, doubles that need 17 digits, 64-bit integers,
+//                              escapes, bytes that are not UTF-8)
 //   reference FILE ISOVALUE K SIDE CONNECTIVITY
 //                              the filter's statistics as JSON, K in voxels,
 //                              SIDE above|below|both, CONNECTIVITY face|full
 
 #include "itkSmallIsoComponentImageFilter.h"
 #include "sicImageFiles.h"
-#include "sicJsonWriter.h"
 #include "sicScalarImageDispatch.h"
 
 #include "itkImageRegionConstIterator.h"
@@ -43,10 +43,20 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace
 {
+using Json = nlohmann::ordered_json;
+
+/** Prints \a document as the tools write their JSON. */
+void
+Print(const Json & document)
+{
+  std::cout << document.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+}
+
 /** Background 10 with specks of 100 (1 to 3 voxels), a box of 100 with bubbles of 10. */
 template <typename TImage>
 void
@@ -167,26 +177,25 @@ Reference(const std::string & path, double isoValue, itk::SizeValueType k, const
   filter->SetFullyConnected(full);
   filter->Update();
 
-  sic::JsonWriter json(std::cout);
-  json.BeginObject();
+  Json document;
   for (const SideEnum s : { SideEnum::Above, SideEnum::Below })
   {
-    json.Key(s == SideEnum::Above ? "above" : "below").BeginObject();
-    json.Key("components").Number(static_cast<std::uint64_t>(filter->GetNumberOfComponents(s)));
-    json.Key("removed_components").Number(static_cast<std::uint64_t>(filter->GetNumberOfRemovedComponents(s)));
-    json.Key("removed_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfRemovedVoxels(s)));
-    json.Key("size_histogram").BeginArray();
+    Json histogram = Json::array();
     for (const auto & [size, count] : filter->GetComponentSizeHistogram(s))
     {
-      json.BeginArray().Number(static_cast<std::uint64_t>(size)).Number(static_cast<std::uint64_t>(count)).EndArray();
+      histogram.push_back({ static_cast<std::uint64_t>(size), static_cast<std::uint64_t>(count) });
     }
-    json.EndArray().EndObject();
+    document[s == SideEnum::Above ? "above" : "below"] = {
+      { "components", static_cast<std::uint64_t>(filter->GetNumberOfComponents(s)) },
+      { "removed_components", static_cast<std::uint64_t>(filter->GetNumberOfRemovedComponents(s)) },
+      { "removed_voxels", static_cast<std::uint64_t>(filter->GetNumberOfRemovedVoxels(s)) },
+      { "size_histogram", std::move(histogram) }
+    };
   }
-  json.Key("modified_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfModifiedVoxels()));
-  json.Key("unrepairable_voxels").Number(static_cast<std::uint64_t>(filter->GetNumberOfUnrepairableVoxels()));
-  json.Key("effective_max_size").Number(static_cast<std::uint64_t>(filter->GetEffectiveMaximumComponentSize()));
-  json.EndObject();
-  json.Finish();
+  document["modified_voxels"] = static_cast<std::uint64_t>(filter->GetNumberOfModifiedVoxels());
+  document["unrepairable_voxels"] = static_cast<std::uint64_t>(filter->GetNumberOfUnrepairableVoxels());
+  document["effective_max_size"] = static_cast<std::uint64_t>(filter->GetEffectiveMaximumComponentSize());
+  Print(document);
   return 0;
 }
 
@@ -233,27 +242,11 @@ Probe(int argc, char * argv[])
   if (command == "info" && argc == 3)
   {
     const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(argv[2], "image");
-    sic::JsonWriter            json(std::cout);
-    json.BeginObject();
-    json.Key("pixel_type").String(sic::PixelTypeName(info.ComponentType));
-    json.Key("dimension").Number(static_cast<std::uint64_t>(info.Dimension));
-    json.Key("size").BeginArray();
-    for (const auto size : info.Size)
-    {
-      json.Number(static_cast<std::uint64_t>(size));
-    }
-    json.EndArray().Key("spacing").BeginArray();
-    for (const double spacing : info.Spacing)
-    {
-      json.Number(spacing);
-    }
-    json.EndArray().Key("origin").BeginArray();
-    for (const double origin : info.Origin)
-    {
-      json.Number(origin);
-    }
-    json.EndArray().EndObject();
-    json.Finish();
+    Print({ { "pixel_type", sic::PixelTypeName(info.ComponentType) },
+            { "dimension", info.Dimension },
+            { "size", info.Size },
+            { "spacing", info.Spacing },
+            { "origin", info.Origin } });
     return 0;
   }
   if (command == "count-nonzero" && argc == 3)
@@ -269,27 +262,13 @@ Probe(int argc, char * argv[])
   }
   if (command == "json-sample" && argc == 2)
   {
-    sic::JsonWriter json(std::cout);
-    json.BeginObject();
-    json.Key("nan").Number(std::nan(""));
-    json.Key("infinities").BeginArray();
-    json.Number(HUGE_VAL).Number(-HUGE_VAL).EndArray();
-    json.Key("doubles").BeginArray();
-    for (const double value : { 0.1, 1.0 / 3.0, 2.0 / 3.0 * 1e300, 5e-324, -0.0, 150.0, 0.6400000000000001 })
-    {
-      json.Number(value);
-    }
-    json.EndArray();
-    json.Key("integers").BeginArray();
-    json.Number(std::numeric_limits<std::uint64_t>::max()).Number(std::numeric_limits<std::int64_t>::min());
-    json.EndArray();
-    json.Key("text \"quoted\"").String("back\\slash, tab\t, newline\n, bell\a, mm³");
-    json.Key("nested").BeginArray();
-    json.BeginArray().Number(std::uint64_t{ 1 }).Number(std::uint64_t{ 2 }).EndArray();
-    json.BeginObject().Key("empty").BeginArray().EndArray().EndObject();
-    json.EndArray();
-    json.EndObject();
-    json.Finish();
+    Print({ { "nan", std::nan("") },
+            { "infinities", { HUGE_VAL, -HUGE_VAL } },
+            { "doubles", { 0.1, 1.0 / 3.0, 2.0 / 3.0 * 1e300, 5e-324, -0.0, 150.0, 0.6400000000000001 } },
+            { "integers", { std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::int64_t>::min() } },
+            { "text \"quoted\"", "back\\slash, tab\t, newline\n, bell\a, mm³" },
+            { "not UTF-8", "a\xff\xfe b" },
+            { "nested", Json::array({ { 1u, 2u }, { { "empty", Json::array() } } }) } });
     return 0;
   }
   if (command == "reference" && argc == 7)
