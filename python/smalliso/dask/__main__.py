@@ -115,8 +115,9 @@ def _summary(arguments, stats, seconds):
 
 
 def _json_text(value, indent=""):
-    """JSON laid out as the command-line tool writes it: objects one key a line, lists of numbers
-    on one line, lists of lists one inner list a line."""
+    """JSON laid out for reading: objects one key a line, lists of numbers on one line, lists of
+    lists one inner list a line (the command-line tool writes the same members, laid out by its
+    JSON library)."""
     inner = indent + "  "
     if isinstance(value, dict):
         items = [f"{inner}{json.dumps(key)}: {_json_text(item, inner)}" for key, item in value.items()]
