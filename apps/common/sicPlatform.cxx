@@ -349,19 +349,6 @@ StandardErrorIsTerminal()
   return _isatty(_fileno(stderr)) != 0;
 }
 
-void
-SetEnvironmentVariable(const std::string & name, const std::string & value)
-{
-  _putenv_s(name.c_str(), value.c_str());
-}
-
-void
-UnsetEnvironmentVariable(const std::string & name)
-{
-  // An empty value removes the variable.
-  _putenv_s(name.c_str(), "");
-}
-
 bool
 CanStartPrograms()
 {
@@ -547,18 +534,6 @@ bool
 StandardErrorIsTerminal()
 {
   return ::isatty(STDERR_FILENO) != 0;
-}
-
-void
-SetEnvironmentVariable(const std::string & name, const std::string & value)
-{
-  ::setenv(name.c_str(), value.c_str(), 1);
-}
-
-void
-UnsetEnvironmentVariable(const std::string & name)
-{
-  ::unsetenv(name.c_str());
 }
 
 bool

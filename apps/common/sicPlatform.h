@@ -30,7 +30,6 @@
 #include <memory>
 #include <string>
 #include <system_error>
-#include <cstdint>
 #include <vector>
 
 namespace sic
@@ -113,15 +112,6 @@ private:
 /** Whether the standard error stream is a terminal (where a progress bar can be redrawn). */
 bool
 StandardErrorIsTerminal();
-
-/** Sets the environment variable \a name to \a value for this process and the programs it
- * starts. */
-void
-SetEnvironmentVariable(const std::string & name, const std::string & value);
-
-/** Removes the environment variable \a name. */
-void
-UnsetEnvironmentVariable(const std::string & name);
 
 /** Whether the tools can start other programs here (RunProgram(), BackgroundProgram): on
  * POSIX systems only. */

@@ -20,6 +20,9 @@
 #include "sicPlatform.h"
 #include "sicToolError.h"
 
+// Before Xlib.h, whose macros (Status, None) would clash with newer KWSys headers.
+#include <itksys/SystemTools.hxx>
+
 #include <X11/Xlib.h>
 
 #include <chrono>
@@ -91,7 +94,7 @@ HeadlessDisplay::HeadlessDisplay()
     m_PreviousDisplay = previous;
   }
   m_Server = std::move(server);
-  SetEnvironmentVariable("DISPLAY", ":" + number);
+  itksys::SystemTools::PutEnv("DISPLAY=:" + number);
 }
 
 HeadlessDisplay::~HeadlessDisplay()
@@ -103,11 +106,11 @@ HeadlessDisplay::~HeadlessDisplay()
   m_Server.reset();
   if (m_PreviousDisplay)
   {
-    SetEnvironmentVariable("DISPLAY", *m_PreviousDisplay);
+    itksys::SystemTools::PutEnv("DISPLAY=" + *m_PreviousDisplay);
   }
   else
   {
-    UnsetEnvironmentVariable("DISPLAY");
+    itksys::SystemTools::UnPutEnv("DISPLAY");
   }
 }
 } // namespace sic
