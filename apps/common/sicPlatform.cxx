@@ -19,6 +19,8 @@
 
 #include "sicToolError.h"
 
+#include <itksys/SystemTools.hxx>
+
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
@@ -124,17 +126,6 @@ OnTerminate()
   std::fflush(stderr);
   std::_Exit(ExitFailure);
 }
-
-bool
-IsProgram(const fs::path & path)
-{
-  std::error_code error;
-#ifdef _WIN32
-  return fs::is_regular_file(path, error);
-#else
-  return ::access(path.c_str(), X_OK) == 0 && !fs::is_directory(path, error);
-#endif
-}
 } // namespace
 
 void
@@ -170,7 +161,7 @@ FindProgram(const std::string & name)
     const size_t   end = std::min(directories.find(PathSeparator, begin), directories.size());
     const fs::path directory = end == begin ? fs::path(".") : fs::path(directories.substr(begin, end - begin));
     const fs::path candidate = directory / (name + ProgramSuffix);
-    if (IsProgram(candidate))
+    if (itksys::SystemTools::FileIsExecutable(candidate.string()))
     {
       return candidate;
     }
