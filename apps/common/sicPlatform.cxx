@@ -35,7 +35,6 @@
 #include <stdexcept>
 
 #ifdef _WIN32
-#  include <cstdio>
 #  include <io.h>
 #  include <random>
 #else
@@ -173,45 +172,19 @@ FindProgram(const std::string & name)
 namespace
 {
 // The C runtime's descriptor calls, spelled with an underscore on Windows.
-int
-Descriptor(std::FILE * file)
-{
 #ifdef _WIN32
-  return _fileno(file);
+const auto Descriptor = _fileno;
+const auto Duplicate = _dup;
+const auto DuplicateOnto = _dup2;
+const auto CloseDescriptor = _close;
+const auto IsTerminal = _isatty;
 #else
-  return fileno(file);
+const auto         Descriptor = fileno;
+const auto         Duplicate = dup;
+const auto         DuplicateOnto = dup2;
+const auto         CloseDescriptor = close;
+const auto         IsTerminal = isatty;
 #endif
-}
-
-int
-Duplicate(int descriptor)
-{
-#ifdef _WIN32
-  return _dup(descriptor);
-#else
-  return dup(descriptor);
-#endif
-}
-
-int
-DuplicateOnto(int descriptor, int onto)
-{
-#ifdef _WIN32
-  return _dup2(descriptor, onto);
-#else
-  return dup2(descriptor, onto);
-#endif
-}
-
-void
-CloseDescriptor(int descriptor)
-{
-#ifdef _WIN32
-  _close(descriptor);
-#else
-  close(descriptor);
-#endif
-}
 } // namespace
 
 StandardErrorCapture::StandardErrorCapture()
@@ -264,6 +237,12 @@ StandardErrorCapture::Restore()
   std::fclose(m_File);
   m_File = nullptr;
   return text;
+}
+
+bool
+StandardErrorIsTerminal()
+{
+  return IsTerminal(Descriptor(stderr)) != 0;
 }
 
 void
@@ -332,12 +311,6 @@ CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::
   }
   error = std::make_error_code(std::errc::file_exists);
   return {};
-}
-
-bool
-StandardErrorIsTerminal()
-{
-  return _isatty(_fileno(stderr)) != 0;
 }
 
 bool
@@ -519,12 +492,6 @@ CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::
   }
   error.clear();
   return pattern;
-}
-
-bool
-StandardErrorIsTerminal()
-{
-  return ::isatty(STDERR_FILENO) != 0;
 }
 
 bool
