@@ -18,6 +18,7 @@
 #include "sicImageFileParts.h"
 #include "sicStrings.h"
 
+#include "NrrdIO.h"
 #include "itk_zlib.h"
 
 #include <algorithm>
@@ -279,54 +280,12 @@ AddFile(ImageFileParts & parts, const fs::path & file)
   }
 }
 
-/** Bytes per value of a NRRD type name, 0 for an unknown one or "block". */
+/** Bytes per value of a NRRD type name as NrrdIO knows it, 0 for an unknown one or "block"; a name not in lower
+ * case is left to ITK's reader alone. */
 std::uint64_t
 NrrdTypeBytes(const std::string & type)
 {
-  static const std::map<std::string, std::uint64_t> Sizes = {
-    { "signed char", 1 },
-    { "int8", 1 },
-    { "int8_t", 1 },
-    { "uchar", 1 },
-    { "unsigned char", 1 },
-    { "uint8", 1 },
-    { "uint8_t", 1 },
-    { "short", 2 },
-    { "short int", 2 },
-    { "signed short", 2 },
-    { "signed short int", 2 },
-    { "int16", 2 },
-    { "int16_t", 2 },
-    { "ushort", 2 },
-    { "unsigned short", 2 },
-    { "unsigned short int", 2 },
-    { "uint16", 2 },
-    { "uint16_t", 2 },
-    { "int", 4 },
-    { "signed int", 4 },
-    { "int32", 4 },
-    { "int32_t", 4 },
-    { "uint", 4 },
-    { "unsigned int", 4 },
-    { "uint32", 4 },
-    { "uint32_t", 4 },
-    { "longlong", 8 },
-    { "long long", 8 },
-    { "long long int", 8 },
-    { "signed long long", 8 },
-    { "signed long long int", 8 },
-    { "int64", 8 },
-    { "int64_t", 8 },
-    { "ulonglong", 8 },
-    { "unsigned long long", 8 },
-    { "unsigned long long int", 8 },
-    { "uint64", 8 },
-    { "uint64_t", 8 },
-    { "float", 4 },
-    { "double", 8 },
-  };
-  const auto found = Sizes.find(type);
-  return found == Sizes.end() ? 0 : found->second;
+  return type == Lowercase(type) ? nrrdTypeSize[airEnumVal(nrrdType, type.c_str())] : 0;
 }
 
 /** A NRRD header: fields "name: value" up to the first empty line (after which attached data starts), key/value
