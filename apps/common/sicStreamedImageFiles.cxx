@@ -20,6 +20,7 @@
 #include "sicStrings.h"
 #include "sicToolError.h"
 
+#include "itkByteSwapper.h"
 #include "itkImageIOFactory.h"
 
 #include <zlib.h>
@@ -36,15 +37,6 @@ namespace
 {
 constexpr std::size_t CompressedChunk = std::size_t{ 256 } << 10;
 
-bool
-IsBigEndianHost()
-{
-  const uint16_t one = 1;
-  uint8_t        first;
-  std::memcpy(&first, &one, 1);
-  return first == 0;
-}
-
 void
 SwapBytes(void * buffer, uint64_t values, unsigned int bytes)
 {
@@ -55,56 +47,34 @@ SwapBytes(void * buffer, uint64_t values, unsigned int bytes)
   }
 }
 
-const char *
-MetaElementType(itk::IOComponentEnum type)
+/** A pixel type the files stream, with its names in MetaImage and NRRD headers. */
+struct StreamedType
 {
-  switch (type)
-  {
-    case itk::IOComponentEnum::UCHAR:
-      return "MET_UCHAR";
-    case itk::IOComponentEnum::CHAR:
-      return "MET_CHAR";
-    case itk::IOComponentEnum::USHORT:
-      return "MET_USHORT";
-    case itk::IOComponentEnum::SHORT:
-      return "MET_SHORT";
-    case itk::IOComponentEnum::UINT:
-      return "MET_UINT";
-    case itk::IOComponentEnum::INT:
-      return "MET_INT";
-    case itk::IOComponentEnum::FLOAT:
-      return "MET_FLOAT";
-    case itk::IOComponentEnum::DOUBLE:
-      return "MET_DOUBLE";
-    default:
-      return nullptr;
-  }
-}
+  itk::IOComponentEnum Component;
+  const char *         MetaName;
+  const char *         NrrdName;
+  unsigned int         Bytes;
+};
 
-const char *
-NrrdType(itk::IOComponentEnum type)
+constexpr StreamedType StreamedTypes[] = {
+  { itk::IOComponentEnum::UCHAR, "MET_UCHAR", "uint8", 1 },
+  { itk::IOComponentEnum::CHAR, "MET_CHAR", "int8", 1 },
+  { itk::IOComponentEnum::USHORT, "MET_USHORT", "uint16", 2 },
+  { itk::IOComponentEnum::SHORT, "MET_SHORT", "int16", 2 },
+  { itk::IOComponentEnum::UINT, "MET_UINT", "uint32", 4 },
+  { itk::IOComponentEnum::INT, "MET_INT", "int32", 4 },
+  { itk::IOComponentEnum::FLOAT, "MET_FLOAT", "float", 4 },
+  { itk::IOComponentEnum::DOUBLE, "MET_DOUBLE", "double", 8 },
+};
+
+/** The entry of \a type, or null for a type that does not stream. */
+const StreamedType *
+FindStreamedType(itk::IOComponentEnum type)
 {
-  switch (type)
-  {
-    case itk::IOComponentEnum::UCHAR:
-      return "uint8";
-    case itk::IOComponentEnum::CHAR:
-      return "int8";
-    case itk::IOComponentEnum::USHORT:
-      return "uint16";
-    case itk::IOComponentEnum::SHORT:
-      return "int16";
-    case itk::IOComponentEnum::UINT:
-      return "uint32";
-    case itk::IOComponentEnum::INT:
-      return "int32";
-    case itk::IOComponentEnum::FLOAT:
-      return "float";
-    case itk::IOComponentEnum::DOUBLE:
-      return "double";
-    default:
-      return nullptr;
-  }
+  const auto found = std::find_if(std::begin(StreamedTypes),
+                                  std::end(StreamedTypes),
+                                  [type](const StreamedType & entry) { return entry.Component == type; });
+  return found == std::end(StreamedTypes) ? nullptr : found;
 }
 
 std::string
@@ -189,23 +159,8 @@ VolumeGeometry::PlaneVoxels() const
 unsigned int
 VolumeGeometry::PixelBytes() const
 {
-  switch (ComponentType)
-  {
-    case itk::IOComponentEnum::UCHAR:
-    case itk::IOComponentEnum::CHAR:
-      return 1;
-    case itk::IOComponentEnum::USHORT:
-    case itk::IOComponentEnum::SHORT:
-      return 2;
-    case itk::IOComponentEnum::UINT:
-    case itk::IOComponentEnum::INT:
-    case itk::IOComponentEnum::FLOAT:
-      return 4;
-    case itk::IOComponentEnum::DOUBLE:
-      return 8;
-    default:
-      return 0;
-  }
+  const StreamedType * type = FindStreamedType(ComponentType);
+  return type != nullptr ? type->Bytes : 0;
 }
 
 bool
@@ -446,7 +401,7 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   }
   data.BytesRead += bytes;
   const bool bigEndianData = data.Where.BigEndian;
-  if (m_Geometry.PixelBytes() > 1 && bigEndianData != IsBigEndianHost())
+  if (m_Geometry.PixelBytes() > 1 && bigEndianData != itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian())
   {
     SwapBytes(buffer, bytes / m_Geometry.PixelBytes(), m_Geometry.PixelBytes());
   }
@@ -567,7 +522,8 @@ MetaImageHeader(const VolumeGeometry & geometry, bool compress, const std::strin
   {
     header << " " << size;
   }
-  header << "\nElementType = " << MetaElementType(geometry.ComponentType) << "\nElementDataFile = " << dataFile << "\n";
+  header << "\nElementType = " << FindStreamedType(geometry.ComponentType)->MetaName
+         << "\nElementDataFile = " << dataFile << "\n";
   return header.str();
 }
 
@@ -576,7 +532,7 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
 {
   std::ostringstream header;
   const unsigned int n = geometry.Dimension;
-  header << "NRRD0004\ntype: " << NrrdType(geometry.ComponentType) << "\ndimension: " << n << "\n";
+  header << "NRRD0004\ntype: " << FindStreamedType(geometry.ComponentType)->NrrdName << "\ndimension: " << n << "\n";
   if (n == 3)
   {
     header << "space: left-posterior-superior\n";
@@ -605,8 +561,8 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
   {
     header << " domain";
   }
-  header << "\nendian: " << (IsBigEndianHost() ? "big" : "little") << "\nencoding: " << (compress ? "gzip" : "raw")
-         << "\nspace origin: (";
+  header << "\nendian: " << (itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian() ? "big" : "little")
+         << "\nencoding: " << (compress ? "gzip" : "raw") << "\nspace origin: (";
   for (unsigned int a = 0; a < n; ++a)
   {
     header << (a ? "," : "") << Number(geometry.Origin[a]);
@@ -639,7 +595,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
   Output &          out = *m_Output;
   const std::string name = Lowercase(finalPath);
   out.Kind = ImageFileFormatOf(finalPath);
-  if (!IsStreamableImageFile(finalPath) || MetaElementType(geometry.ComponentType) == nullptr)
+  if (!IsStreamableImageFile(finalPath) || FindStreamedType(geometry.ComponentType) == nullptr)
   {
     throw ToolError("cannot stream " + what + " " + Quoted(finalPath) + ": " + StreamableFormats());
   }
