@@ -18,13 +18,12 @@
 #include "sicImageDataCheck.h"
 #include "sicStrings.h"
 
-#include "itk_zlib.h"
-
 #include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <new>
 #include <vector>
 
@@ -34,55 +33,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-/** Inflates into a scratch buffer, counting the bytes; owns the zlib stream. */
-class Inflater
-{
-public:
-  Inflater()
-  {
-    // 15 + 32: a zlib or a gzip header, whichever the stream has.
-    if (inflateInit2(&m_Stream, 15 + 32) != Z_OK)
-    {
-      throw std::bad_alloc();
-    }
-  }
-  Inflater(const Inflater &) = delete;
-  Inflater &
-  operator=(const Inflater &) = delete;
-  ~Inflater() { inflateEnd(&m_Stream); }
-
-  z_stream &
-  Stream()
-  {
-    return m_Stream;
-  }
-
-  /** Inflates what is in the stream's input; returns zlib's status (Z_OK when more input is needed). */
-  int
-  Run(std::uint64_t & inflated)
-  {
-    int status = Z_OK;
-    while (status == Z_OK && (m_Stream.avail_in > 0 || m_Stream.avail_out == 0))
-    {
-      m_Stream.next_out = m_Scratch.data();
-      m_Stream.avail_out = static_cast<uInt>(m_Scratch.size());
-      status = inflate(&m_Stream, Z_NO_FLUSH);
-      inflated += m_Scratch.size() - m_Stream.avail_out;
-      if (status == Z_BUF_ERROR && m_Stream.avail_in == 0)
-      {
-        // No progress without more input: not an error yet.
-        status = Z_OK;
-        break;
-      }
-    }
-    return status;
-  }
-
-private:
-  z_stream                          m_Stream{};
-  std::array<unsigned char, 262144> m_Scratch;
-};
-
 std::string
 ZlibProblem(int status, const char * message)
 {
@@ -345,40 +295,75 @@ TextDataProblem(const fs::path & file, std::uint64_t offset, std::uint64_t count
 }
 } // namespace
 
+InflateInput::InflateInput(std::FILE * file)
+  : m_File(file)
+  , m_Input(262144)
+{}
+
+InflateInput::~InflateInput()
+{
+  if (m_Started)
+  {
+    inflateEnd(&m_Stream);
+  }
+}
+
+bool
+InflateInput::Start()
+{
+  // 15 + 32: a zlib or a gzip header, whichever the stream has.
+  m_Started = inflateInit2(&m_Stream, 15 + 32) == Z_OK;
+  return m_Started;
+}
+
+bool
+InflateInput::Fill()
+{
+  const size_t kept = m_Stream.avail_in;
+  std::copy(m_Stream.next_in, m_Stream.next_in + kept, m_Input.begin());
+  const size_t got = std::fread(m_Input.data() + kept, 1, m_Input.size() - kept, m_File);
+  m_Read += got;
+  m_Stream.next_in = m_Input.data();
+  m_Stream.avail_in = static_cast<uInt>(kept + got);
+  return m_Stream.avail_in > 0;
+}
+
+bool
+InflateInput::NextMember()
+{
+  if (m_Stream.avail_in < 2)
+  {
+    Fill();
+  }
+  return m_Stream.avail_in >= 2 && m_Stream.next_in[0] == 0x1f && m_Stream.next_in[1] == 0x8b &&
+         inflateReset(&m_Stream) == Z_OK;
+}
+
 InflatedData
 Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string & problem)
 {
   problem.clear();
-  std::ifstream file(path, std::ios::binary);
-  file.seekg(static_cast<std::streamoff>(offset));
-  if (!file)
+  const std::unique_ptr<std::FILE, int (*)(std::FILE *)> file(std::fopen(path.string().c_str(), "rb"), std::fclose);
+  if (!file || fseeko(file.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
   {
     problem = "is missing";
     return {};
   }
-  std::vector<unsigned char> input(262144);
-  Inflater                   inflater;
-  z_stream &                 stream = inflater.Stream();
+  InflateInput input(file.get());
+  if (!input.Start())
+  {
+    throw std::bad_alloc();
+  }
+  z_stream &                 stream = input.Stream();
+  std::vector<unsigned char> scratch(262144);
   InflatedData               inflated;
-  std::uint64_t              read = 0;
-  const auto                 fill = [&](size_t kept) {
-    std::copy(stream.next_in, stream.next_in + kept, input.begin());
-    file.read(reinterpret_cast<char *>(input.data() + kept), static_cast<std::streamsize>(input.size() - kept));
-    read += static_cast<std::uint64_t>(file.gcount());
-    stream.next_in = input.data();
-    stream.avail_in = static_cast<uInt>(kept + static_cast<size_t>(file.gcount()));
-  };
-  bool started = false;
+  bool                       started = false;
   while (true)
   {
-    if (stream.avail_in == 0)
+    if (stream.avail_in == 0 && !input.Fill())
     {
-      fill(0);
-      if (stream.avail_in == 0)
-      {
-        problem = started ? "is cut short" : "is missing";
-        return inflated;
-      }
+      problem = started ? "is cut short" : "is missing";
+      return inflated;
     }
     if (!started && members && stream.avail_in >= 2 && (stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b))
     {
@@ -387,8 +372,16 @@ Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string &
       return inflated;
     }
     started = true;
-    const int status = inflater.Run(inflated.Bytes);
-    if (status == Z_OK)
+    int status = Z_OK;
+    while (status == Z_OK && (stream.avail_in > 0 || stream.avail_out == 0))
+    {
+      stream.next_out = scratch.data();
+      stream.avail_out = static_cast<uInt>(scratch.size());
+      status = inflate(&stream, Z_NO_FLUSH);
+      inflated.Bytes += scratch.size() - stream.avail_out;
+    }
+    // Z_BUF_ERROR with all input taken: no progress without more input, not an error yet.
+    if (status == Z_OK || (status == Z_BUF_ERROR && stream.avail_in == 0))
     {
       continue;
     }
@@ -398,16 +391,11 @@ Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string &
       return inflated;
     }
     // One stream ended, checksum and all: another gzip member may follow.
-    inflated.CompressedBytes = read - stream.avail_in;
-    if (members && stream.avail_in < 2)
-    {
-      fill(stream.avail_in);
-    }
-    if (!members || stream.avail_in < 2 || stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b)
+    inflated.CompressedBytes = input.Consumed();
+    if (!members || !input.NextMember())
     {
       return inflated;
     }
-    inflateReset(&stream);
   }
 }
 

@@ -24,9 +24,13 @@
 
 #include "sicImageFileParts.h"
 
+#include <zlib.h>
+
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace sic
 {
@@ -55,6 +59,51 @@ struct InflatedData
  * check)", "is corrupt (...)", "is not gzip data (...)") when the data is not complete, intact zlib or gzip data. */
 InflatedData
 Inflate(const std::filesystem::path & file, std::uint64_t offset, bool members, std::string & problem);
+
+/** Feeds zlib's stream with the zlib or gzip data of a file, read from where the file stands on (the file is not
+ * owned), and starts the gzip members that follow one another: what Inflate() and the streaming reader share. */
+class InflateInput
+{
+public:
+  explicit InflateInput(std::FILE * file);
+  ~InflateInput();
+  InflateInput(const InflateInput &) = delete;
+  InflateInput &
+  operator=(const InflateInput &) = delete;
+
+  /** Starts zlib, taking a zlib or a gzip header; false when it cannot (out of memory). */
+  bool
+  Start();
+
+  z_stream &
+  Stream()
+  {
+    return m_Stream;
+  }
+
+  /** Reads more of the file after the input not inflated yet; false when no input is left. */
+  bool
+  Fill();
+
+  /** After a stream ended: starts inflating the gzip member that follows it, if one does (pigz, bgzip and
+   * concatenated gzip files have several); false when none does. */
+  bool
+  NextMember();
+
+  /** The bytes of the file that zlib has taken. */
+  std::uint64_t
+  Consumed() const
+  {
+    return m_Read - m_Stream.avail_in;
+  }
+
+private:
+  std::FILE *                m_File;
+  z_stream                   m_Stream{};
+  bool                       m_Started{ false };
+  std::vector<unsigned char> m_Input;
+  std::uint64_t              m_Read{ 0 };
+};
 } // namespace sic
 
 #endif

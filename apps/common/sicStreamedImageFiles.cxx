@@ -16,14 +16,13 @@
  *
  *=========================================================================*/
 #include "sicStreamedImageFiles.h"
+#include "sicImageDataCheck.h"
 #include "sicImageFileParts.h"
 #include "sicStrings.h"
 #include "sicToolError.h"
 
 #include "itkByteSwapper.h"
 #include "itkImageIOFactory.h"
-
-#include <zlib.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -179,49 +178,40 @@ StreamableFormats()
 
 struct PlaneReader::Data
 {
-  std::FILE *          File{ nullptr };
-  Layout               Where;
-  z_stream             Stream{};
-  bool                 Inflating{ false };
-  bool                 StreamEnded{ false };
-  std::vector<uint8_t> In;
-  uint64_t             BytesRead{ 0 };
-  uint64_t             BytesTotal{ 0 };
+  std::FILE *                   File{ nullptr };
+  Layout                        Where;
+  std::unique_ptr<InflateInput> Input;
+  bool                          StreamEnded{ false };
+  uint64_t                      BytesRead{ 0 };
+  uint64_t                      BytesTotal{ 0 };
 
   ~Data()
   {
-    if (Inflating)
-    {
-      inflateEnd(&Stream);
-    }
     if (File != nullptr)
     {
       std::fclose(File);
     }
   }
-};
 
-namespace
-{
-/** After one compressed stream ended: starts inflating the gzip member that follows it, if one does (pigz, bgzip
- * and concatenated gzip files have several); false when none does. */
-bool
-StartNextMember(z_stream & stream, std::vector<uint8_t> & in, std::FILE * file)
-{
-  if (stream.avail_in < 2)
+  /** Inflates the next compressed bytes into the stream's output; throws \a cutShort (after the image's name)
+   * when the data file holds no more, and says so when the data are corrupt. */
+  int
+  Inflate(const std::string & image, const std::string & cutShort)
   {
-    const std::size_t kept = stream.avail_in;
-    std::copy(stream.next_in, stream.next_in + kept, in.begin());
-    stream.next_in = in.data();
-    stream.avail_in = static_cast<uInt>(kept + std::fread(in.data() + kept, 1, in.size() - kept, file));
+    z_stream & stream = Input->Stream();
+    if (stream.avail_in == 0 && !Input->Fill())
+    {
+      throw ToolError(image + cutShort);
+    }
+    const int status = inflate(&stream, Z_NO_FLUSH);
+    if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR)
+    {
+      throw ToolError(image + " is corrupt: its compressed data fail to decompress (" +
+                      (stream.msg != nullptr ? stream.msg : "zlib error") + ")");
+    }
+    return status;
   }
-  if (stream.avail_in < 2 || stream.next_in[0] != 0x1f || stream.next_in[1] != 0x8b)
-  {
-    return false;
-  }
-  return inflateReset(&stream) == Z_OK;
-}
-} // namespace
+};
 
 PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   : m_Path(path)
@@ -324,13 +314,11 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   }
   if (data.Where.Compressed)
   {
-    // 15 + 32: zlib or gzip, whichever header the data have.
-    if (inflateInit2(&data.Stream, 15 + 32) != Z_OK)
+    data.Input = std::make_unique<InflateInput>(data.File);
+    if (!data.Input->Start())
     {
       throw ToolError("cannot read " + what + " " + Quoted(path) + ": the decompressor could not start");
     }
-    data.Inflating = true;
-    data.In.resize(CompressedChunk);
   }
 }
 
@@ -361,41 +349,26 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   }
   else
   {
-    data.Stream.next_out = static_cast<Bytef *>(buffer);
+    z_stream & stream = data.Input->Stream();
+    stream.next_out = static_cast<Bytef *>(buffer);
     uint64_t left = bytes;
     while (left > 0)
     {
-      if (data.StreamEnded && StartNextMember(data.Stream, data.In, data.File))
+      if (data.StreamEnded && data.Input->NextMember())
       {
         data.StreamEnded = false;
       }
+      const std::string held = std::to_string(data.BytesRead + (bytes - left)) + " of the " +
+                               std::to_string(data.BytesTotal) + " bytes of voxels its header promises";
       if (data.StreamEnded)
       {
-        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data hold " +
-                        std::to_string(data.BytesRead + (bytes - left)) + " of the " + std::to_string(data.BytesTotal) +
-                        " bytes of voxels its header promises");
-      }
-      if (data.Stream.avail_in == 0)
-      {
-        const std::size_t got = std::fread(data.In.data(), 1, data.In.size(), data.File);
-        if (got == 0)
-        {
-          throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data end after " +
-                          std::to_string(data.BytesRead + (bytes - left)) + " of the " +
-                          std::to_string(data.BytesTotal) + " bytes of voxels its header promises");
-        }
-        data.Stream.next_in = data.In.data();
-        data.Stream.avail_in = static_cast<uInt>(got);
+        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data hold " + held);
       }
       const auto chunk = static_cast<uInt>(std::min<uint64_t>(left, uint64_t{ 1 } << 30));
-      data.Stream.avail_out = chunk;
-      const int status = inflate(&data.Stream, Z_NO_FLUSH);
-      if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR)
-      {
-        throw ToolError(m_What + " " + Quoted(m_Path) + " is corrupt: its compressed data fail to decompress (" +
-                        (data.Stream.msg != nullptr ? data.Stream.msg : "zlib error") + ")");
-      }
-      left -= chunk - data.Stream.avail_out;
+      stream.avail_out = chunk;
+      const int status =
+        data.Inflate(m_What + " " + Quoted(m_Path), " is truncated: its compressed data end after " + held);
+      left -= chunk - stream.avail_out;
       data.StreamEnded = status == Z_STREAM_END;
     }
   }
@@ -417,34 +390,18 @@ PlaneReader::Finish()
   }
   // The stream must end here, and its checksum match; so must any gzip members that follow, holding nothing.
   uint8_t scratch[64];
-  while (!data.StreamEnded || StartNextMember(data.Stream, data.In, data.File))
+  while (!data.StreamEnded || data.Input->NextMember())
   {
-    data.StreamEnded = false;
-    if (data.Stream.avail_in == 0)
-    {
-      const std::size_t got = std::fread(data.In.data(), 1, data.In.size(), data.File);
-      if (got == 0)
-      {
-        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data stop before their end");
-      }
-      data.Stream.next_in = data.In.data();
-      data.Stream.avail_in = static_cast<uInt>(got);
-    }
-    data.Stream.next_out = scratch;
-    data.Stream.avail_out = sizeof(scratch);
-    const int status = inflate(&data.Stream, Z_NO_FLUSH);
-    if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR)
-    {
-      throw ToolError(m_What + " " + Quoted(m_Path) + " is corrupt: its compressed data fail to decompress (" +
-                      (data.Stream.msg != nullptr ? data.Stream.msg : "zlib error") + ")");
-    }
-    if (data.Stream.avail_out != sizeof(scratch))
+    data.Input->Stream().next_out = scratch;
+    data.Input->Stream().avail_out = sizeof(scratch);
+    data.StreamEnded = data.Inflate(m_What + " " + Quoted(m_Path),
+                                    " is truncated: its compressed data stop before their end") == Z_STREAM_END;
+    if (data.Input->Stream().avail_out != sizeof(scratch))
     {
       throw ToolError(m_What + " " + Quoted(m_Path) + " is inconsistent: its compressed data inflate to " +
                       "more than the " + std::to_string(data.BytesTotal) +
                       " bytes of voxels its header describes; expected exactly as many");
     }
-    data.StreamEnded = status == Z_STREAM_END;
   }
 }
 
