@@ -26,6 +26,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -150,12 +151,6 @@ public:
     : m_Stream(path, std::ios::binary)
   {}
 
-  bool
-  IsOpen() const
-  {
-    return m_Stream.is_open();
-  }
-
   /** The next line without its line end ('\n' or "\r\n"); false at the end of the file. */
   bool
   Next(std::string & line)
@@ -229,22 +224,17 @@ NumberedFiles(const std::vector<std::string> & words)
   const std::string & pattern = words[0];
   const size_t        percent = pattern.find('%');
   size_t              end = percent + 1;
-  const bool          zeros = end < pattern.size() && pattern[end] == '0';
   while (end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[end])))
   {
     ++end;
   }
-  if (end >= pattern.size() || (pattern[end] != 'd' && pattern[end] != 'i' && pattern[end] != 'u') ||
+  // A zero flag and a width of at most two digits, then d, i or u.
+  if (end >= pattern.size() || end - percent - 1 > 2 ||
+      (pattern[end] != 'd' && pattern[end] != 'i' && pattern[end] != 'u') ||
       pattern.find('%', end) != std::string::npos)
   {
     return std::nullopt;
   }
-  const std::string widthText = pattern.substr(percent + 1, end - percent - 1);
-  if (widthText.size() > 2)
-  {
-    return std::nullopt;
-  }
-  const size_t                      width = widthText.empty() ? 0 : std::stoul(widthText);
   const std::optional<std::int64_t> first = ParseInteger(words[1]);
   const std::optional<std::int64_t> last = ParseInteger(words[2]);
   const std::optional<std::int64_t> step = ParseInteger(words[3]);
@@ -256,19 +246,46 @@ NumberedFiles(const std::vector<std::string> & words)
   {
     return std::nullopt;
   }
+  // The numbers are signed whatever the conversion, and may need 64 bits.
+  const std::string        format = pattern.substr(0, end) + "lld" + pattern.substr(end + 1);
   std::vector<std::string> names;
   const std::int64_t       count = (*last - *first) / *step + 1;
   for (std::int64_t i = 0; i < count; ++i)
   {
-    const std::int64_t number = *first + i * *step;
-    const std::string  sign = number < 0 ? "-" : "";
-    const std::string  digits = std::to_string(number < 0 ? -number : number);
-    const size_t       used = sign.size() + digits.size();
-    const std::string  padding(used < width ? width - used : 0, zeros ? '0' : ' ');
-    names.push_back(pattern.substr(0, percent) + (zeros ? sign + padding : padding + sign) + digits +
-                    pattern.substr(end + 1));
+    const long long number = *first + i * *step;
+    std::string     name(static_cast<size_t>(std::snprintf(nullptr, 0, format.c_str(), number)), '\0');
+    std::snprintf(name.data(), name.size() + 1, format.c_str(), number);
+    names.push_back(name);
   }
   return names;
+}
+
+/** The data files that a header's \a value names, relative to \a header: LIST (the names on the lines left to
+ * \a reader), a numbered series or one file. Sets \a series for the first two. */
+std::vector<fs::path>
+DataFiles(const fs::path & header, const std::string & value, LineReader & reader, bool & series)
+{
+  const bool               listed = value.compare(0, 4, "LIST") == 0;
+  const auto               numbered = NumberedFiles(Words(value));
+  std::vector<std::string> names = numbered ? *numbered : std::vector<std::string>{ value };
+  series = listed || numbered;
+  if (listed)
+  {
+    names.clear();
+    for (std::string line; reader.Next(line);)
+    {
+      if (!Trim(line).empty())
+      {
+        names.push_back(Trim(line));
+      }
+    }
+  }
+  std::vector<fs::path> files;
+  for (const std::string & name : names)
+  {
+    files.push_back(Beside(header, name));
+  }
+  return files;
 }
 
 void
@@ -302,19 +319,9 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
     return;
   }
   std::map<std::string, std::string> fields;
-  std::vector<std::string>           listed;
-  bool                               listing = false;
   bool                               ended = false;
   while (reader.Next(line))
   {
-    if (listing)
-    {
-      if (!Trim(line).empty())
-      {
-        listed.push_back(Trim(line));
-      }
-      continue;
-    }
     if (line.empty())
     {
       ended = true;
@@ -329,7 +336,10 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
     name.erase(std::remove(name.begin(), name.end(), ' '), name.end());
     const std::string value = Trim(line.substr(colon + 1));
     fields[name] = value;
-    listing = name == "datafile" && value.compare(0, 4, "LIST") == 0;
+    if (name == "datafile" && value.compare(0, 4, "LIST") == 0)
+    {
+      break; // the data files' names follow to the end of the header
+    }
   }
   const std::uint64_t headerEnd = reader.Offset();
   problem = SizesProblem("sizes:", Words(fields["sizes"]));
@@ -375,25 +385,9 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
       return;
     }
   }
-  else if (listing)
-  {
-    parts.DataFileSeries = true;
-    for (const std::string & name : listed)
-    {
-      files.push_back(Beside(path, name));
-    }
-  }
-  else if (const auto numbered = NumberedFiles(Words(dataFile->second)))
-  {
-    parts.DataFileSeries = true;
-    for (const std::string & name : *numbered)
-    {
-      files.push_back(Beside(path, name));
-    }
-  }
   else
   {
-    files.push_back(Beside(path, dataFile->second));
+    files = DataFiles(path, dataFile->second, reader, parts.DataFileSeries);
   }
 
   const auto addSegment = [&](const fs::path & file, std::uint64_t offset) {
@@ -404,22 +398,10 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
                                  : ImageDataEncoding::Unchecked;
     segment.Offset = LineReader::SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip));
     // A negative byte skip other than -1 is taken as -1.
-    if (raw && byteSkip < 0)
-    {
-      segment.AtEnd = true;
-    }
-    else if (raw && byteSkip > 0)
-    {
-      segment.Offset += static_cast<std::uint64_t>(byteSkip);
-    }
-    else if (deflate && byteSkip < 0)
-    {
-      segment.AtEnd = true;
-    }
-    else if (deflate && byteSkip > 0)
-    {
-      segment.InflatedOffset = static_cast<std::uint64_t>(byteSkip);
-    }
+    segment.AtEnd = (raw || deflate) && byteSkip < 0;
+    const std::uint64_t skip = static_cast<std::uint64_t>(std::max<std::int64_t>(byteSkip, 0));
+    segment.Offset += raw ? skip : 0;
+    segment.InflatedOffset = deflate ? skip : 0;
     parts.Data.push_back(segment);
   };
   if (files.empty() && dataFile == fields.end())
@@ -532,9 +514,12 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   const std::optional<std::uint64_t> compressedBytes =
     compressed && compressedSize && *compressedSize > 0 ? std::optional<std::uint64_t>(*compressedSize) : std::nullopt;
 
-  const std::string              value = fields["ElementDataFile"];
-  const std::vector<std::string> words = Words(value);
-  std::vector<fs::path>          files;
+  const auto addSegment = [&](const fs::path & file, std::uint64_t start) {
+    const ImageDataEncoding encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
+    const std::uint64_t     offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : start;
+    parts.Data.push_back({ file, encoding, offset, !compressed && headerSize == -1, 0, compressedBytes });
+  };
+  const std::string value = fields["ElementDataFile"];
   // MetaIO takes these three spellings of LOCAL alone (any other is a data file's name) and any value that
   // starts with LIST as a list of files.
   if (value == "LOCAL" || value == "Local" || value == "local")
@@ -545,50 +530,17 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       return;
     }
     // MetaIO honours HeaderSize here too: the voxels start there, or are the file's last bytes.
-    ImageDataSegment segment;
-    segment.File = path;
-    segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
-    segment.AtEnd = !compressed && headerSize == -1;
-    segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : headerEnd;
-    segment.CompressedBytes = compressedBytes;
-    parts.Data.push_back(segment);
+    addSegment(path, headerEnd);
     return;
   }
-  // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
-  const bool listed = value.compare(0, 4, "LIST") == 0;
-  parts.DataFileSeries = value.find('%') != std::string::npos || listed;
-  if (listed)
-  {
-    while (reader.Next(line))
-    {
-      if (!Trim(line).empty())
-      {
-        files.push_back(Beside(path, Trim(line)));
-      }
-    }
-  }
-  else if (const auto numbered = NumberedFiles(words))
-  {
-    for (const std::string & name : *numbered)
-    {
-      files.push_back(Beside(path, name));
-    }
-  }
-  else
-  {
-    files.push_back(Beside(path, value));
-  }
-  for (const fs::path & file : files)
+  bool series = false;
+  for (const fs::path & file : DataFiles(path, value, reader, series))
   {
     AddFile(parts, file);
-    ImageDataSegment segment;
-    segment.File = file;
-    segment.Encoding = compressed ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
-    segment.AtEnd = !compressed && headerSize == -1;
-    segment.Offset = headerSize > 0 ? static_cast<std::uint64_t>(headerSize) : 0;
-    segment.CompressedBytes = compressedBytes;
-    parts.Data.push_back(segment);
+    addSegment(file, 0);
   }
+  // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
+  parts.DataFileSeries = series || value.find('%') != std::string::npos;
 }
 
 /** Reads the first \a count bytes of \a path, through gzip when it is compressed. */
