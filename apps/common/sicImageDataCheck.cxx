@@ -90,23 +90,10 @@ PngHeaderProblem(const unsigned char * data, std::uint64_t length)
   }
   const unsigned int depth = data[8];
   const unsigned int colour = data[9];
-  bool               valid = false;
-  switch (colour)
-  {
-    case 0: // grey
-      valid = depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16;
-      break;
-    case 3: // palette
-      valid = depth == 1 || depth == 2 || depth == 4 || depth == 8;
-      break;
-    case 2: // RGB
-    case 4: // grey and alpha
-    case 6: // RGB and alpha
-      valid = depth == 8 || depth == 16;
-      break;
-    default:
-      break;
-  }
+  // The bit depths PNG defines for each colour type (grey, none, RGB, palette, grey and alpha, none, RGBA), as
+  // sets of powers of two.
+  static constexpr unsigned int depths[] = { 1 | 2 | 4 | 8 | 16, 0, 8 | 16, 1 | 2 | 4 | 8, 8 | 16, 0, 8 | 16 };
+  const bool valid = colour < 7 && depth > 0 && (depth & (depth - 1)) == 0 && (depths[colour] & depth) != 0;
   if (!valid)
   {
     return "is corrupt: its IHDR chunk gives colour type " + std::to_string(colour) + " with bit depth " +
