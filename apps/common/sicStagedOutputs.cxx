@@ -20,6 +20,8 @@
 #include "sicStrings.h"
 #include "sicToolError.h"
 
+#include "itksys/SystemTools.hxx"
+
 #include <fstream>
 
 namespace sic
@@ -47,17 +49,6 @@ SameFile(const fs::path & a, const fs::path & b)
   std::error_code errorA;
   std::error_code errorB;
   return fs::weakly_canonical(fs::absolute(a), errorA) == fs::weakly_canonical(fs::absolute(b), errorB);
-}
-
-/** \a text with every \a from replaced by \a to. */
-std::string
-ReplaceAll(std::string text, const std::string & from, const std::string & to)
-{
-  for (size_t at = text.find(from); !from.empty() && at != std::string::npos; at = text.find(from, at + to.size()))
-  {
-    text.replace(at, from.size(), to);
-  }
-  return text;
 }
 
 /** Throws unless an output may replace what is at \a destination: nothing, a regular file or a link to one (or to
@@ -240,10 +231,12 @@ ShowFinalPaths(const std::string & text, const std::string & stagedPath, const s
   }
   const std::string staging = fs::path(stagedPath).parent_path().string();
   const std::string directory = fs::path(finalPath).parent_path().string();
-  std::string       shown = ReplaceAll(text, stagedPath, finalPath);
-  shown =
-    ReplaceAll(shown, (fs::path(staging) / "").string(), directory.empty() ? "" : (fs::path(directory) / "").string());
-  return ReplaceAll(shown, staging, directory.empty() ? "." : directory);
+  std::string       shown = text;
+  itksys::SystemTools::ReplaceString(shown, stagedPath, finalPath);
+  itksys::SystemTools::ReplaceString(
+    shown, (fs::path(staging) / "").string(), directory.empty() ? "" : (fs::path(directory) / "").string());
+  itksys::SystemTools::ReplaceString(shown, staging, directory.empty() ? "." : directory);
+  return shown;
 }
 
 void
