@@ -32,45 +32,34 @@ namespace sic
 {
 namespace
 {
-struct PixelTypeEntry
-{
-  itk::IOComponentEnum ComponentType;
-  const char *         Name;
-};
-
 // The types sicScalarImageDispatch.h instantiates the tools for.
 constexpr PixelTypeEntry SupportedTypes[] = {
-  { itk::IOComponentEnum::UCHAR, "uint8" },   { itk::IOComponentEnum::CHAR, "int8" },
-  { itk::IOComponentEnum::USHORT, "uint16" }, { itk::IOComponentEnum::SHORT, "int16" },
-  { itk::IOComponentEnum::UINT, "uint32" },   { itk::IOComponentEnum::INT, "int32" },
-  { itk::IOComponentEnum::FLOAT, "float32" }, { itk::IOComponentEnum::DOUBLE, "float64" },
+  { itk::IOComponentEnum::UCHAR, "uint8", "MET_UCHAR", "uint8", 1 },
+  { itk::IOComponentEnum::CHAR, "int8", "MET_CHAR", "int8", 1 },
+  { itk::IOComponentEnum::USHORT, "uint16", "MET_USHORT", "uint16", 2 },
+  { itk::IOComponentEnum::SHORT, "int16", "MET_SHORT", "int16", 2 },
+  { itk::IOComponentEnum::UINT, "uint32", "MET_UINT", "uint32", 4 },
+  { itk::IOComponentEnum::INT, "int32", "MET_INT", "int32", 4 },
+  { itk::IOComponentEnum::FLOAT, "float32", "MET_FLOAT", "float", 4 },
+  { itk::IOComponentEnum::DOUBLE, "float64", "MET_DOUBLE", "double", 8 },
 };
-
-bool
-IsSupported(itk::IOComponentEnum componentType)
-{
-  for (const PixelTypeEntry & entry : SupportedTypes)
-  {
-    if (entry.ComponentType == componentType)
-    {
-      return true;
-    }
-  }
-  return false;
-}
 } // namespace
+
+const PixelTypeEntry *
+FindPixelType(itk::IOComponentEnum componentType)
+{
+  const auto found =
+    std::find_if(std::begin(SupportedTypes), std::end(SupportedTypes), [componentType](const PixelTypeEntry & entry) {
+      return entry.ComponentType == componentType;
+    });
+  return found == std::end(SupportedTypes) ? nullptr : found;
+}
 
 std::string
 PixelTypeName(itk::IOComponentEnum componentType)
 {
-  for (const PixelTypeEntry & entry : SupportedTypes)
-  {
-    if (entry.ComponentType == componentType)
-    {
-      return entry.Name;
-    }
-  }
-  return itk::ImageIOBase::GetComponentTypeAsString(componentType);
+  const PixelTypeEntry * entry = FindPixelType(componentType);
+  return entry != nullptr ? entry->Name : itk::ImageIOBase::GetComponentTypeAsString(componentType);
 }
 
 std::string
@@ -151,7 +140,7 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
                     " components per pixel (" + itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
                     "); expected a scalar image, one value per voxel");
   }
-  if (!IsSupported(info.ComponentType))
+  if (FindPixelType(info.ComponentType) == nullptr)
   {
     throw ToolError(what + " " + quoted + " has pixel type " + PixelTypeName(info.ComponentType) +
                     ", which is not supported; expected one of " + SupportedPixelTypes());

@@ -56,6 +56,20 @@ struct ScalarImageInfo
 ScalarImageInfo
 ReadScalarImageInfo(const std::string & path, const std::string & what);
 
+/** A pixel type the tools process, with its names: the tools' own, and in MetaImage and NRRD headers. */
+struct PixelTypeEntry
+{
+  itk::IOComponentEnum ComponentType;
+  const char *         Name;
+  const char *         MetaImageName;
+  const char *         NrrdName;
+  unsigned int         Bytes;
+};
+
+/** The entry of \a componentType, or null when the tools do not process it. */
+const PixelTypeEntry *
+FindPixelType(itk::IOComponentEnum componentType);
+
 /** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32" or "float64"; the ITK
  * name for any other type. */
 std::string

@@ -18,6 +18,7 @@
 #include "sicStreamedImageFiles.h"
 #include "sicImageDataCheck.h"
 #include "sicImageFileParts.h"
+#include "sicImageFiles.h"
 #include "sicStrings.h"
 #include "sicToolError.h"
 
@@ -44,36 +45,6 @@ SwapBytes(void * buffer, uint64_t values, unsigned int bytes)
   {
     std::reverse(p, p + bytes);
   }
-}
-
-/** A pixel type the files stream, with its names in MetaImage and NRRD headers. */
-struct StreamedType
-{
-  itk::IOComponentEnum Component;
-  const char *         MetaName;
-  const char *         NrrdName;
-  unsigned int         Bytes;
-};
-
-constexpr StreamedType StreamedTypes[] = {
-  { itk::IOComponentEnum::UCHAR, "MET_UCHAR", "uint8", 1 },
-  { itk::IOComponentEnum::CHAR, "MET_CHAR", "int8", 1 },
-  { itk::IOComponentEnum::USHORT, "MET_USHORT", "uint16", 2 },
-  { itk::IOComponentEnum::SHORT, "MET_SHORT", "int16", 2 },
-  { itk::IOComponentEnum::UINT, "MET_UINT", "uint32", 4 },
-  { itk::IOComponentEnum::INT, "MET_INT", "int32", 4 },
-  { itk::IOComponentEnum::FLOAT, "MET_FLOAT", "float", 4 },
-  { itk::IOComponentEnum::DOUBLE, "MET_DOUBLE", "double", 8 },
-};
-
-/** The entry of \a type, or null for a type that does not stream. */
-const StreamedType *
-FindStreamedType(itk::IOComponentEnum type)
-{
-  const auto found = std::find_if(std::begin(StreamedTypes),
-                                  std::end(StreamedTypes),
-                                  [type](const StreamedType & entry) { return entry.Component == type; });
-  return found == std::end(StreamedTypes) ? nullptr : found;
 }
 
 std::string
@@ -158,7 +129,7 @@ VolumeGeometry::PlaneVoxels() const
 unsigned int
 VolumeGeometry::PixelBytes() const
 {
-  const StreamedType * type = FindStreamedType(ComponentType);
+  const PixelTypeEntry * type = FindPixelType(ComponentType);
   return type != nullptr ? type->Bytes : 0;
 }
 
@@ -479,7 +450,7 @@ MetaImageHeader(const VolumeGeometry & geometry, bool compress, const std::strin
   {
     header << " " << size;
   }
-  header << "\nElementType = " << FindStreamedType(geometry.ComponentType)->MetaName
+  header << "\nElementType = " << FindPixelType(geometry.ComponentType)->MetaImageName
          << "\nElementDataFile = " << dataFile << "\n";
   return header.str();
 }
@@ -489,7 +460,7 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
 {
   std::ostringstream header;
   const unsigned int n = geometry.Dimension;
-  header << "NRRD0004\ntype: " << FindStreamedType(geometry.ComponentType)->NrrdName << "\ndimension: " << n << "\n";
+  header << "NRRD0004\ntype: " << FindPixelType(geometry.ComponentType)->NrrdName << "\ndimension: " << n << "\n";
   if (n == 3)
   {
     header << "space: left-posterior-superior\n";
@@ -552,7 +523,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
   Output &          out = *m_Output;
   const std::string name = Lowercase(finalPath);
   out.Kind = ImageFileFormatOf(finalPath);
-  if (!IsStreamableImageFile(finalPath) || FindStreamedType(geometry.ComponentType) == nullptr)
+  if (!IsStreamableImageFile(finalPath) || FindPixelType(geometry.ComponentType) == nullptr)
   {
     throw ToolError("cannot stream " + what + " " + Quoted(finalPath) + ": " + StreamableFormats());
   }
