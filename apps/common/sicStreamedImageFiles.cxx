@@ -56,6 +56,20 @@ Number(double value)
   return out.str();
 }
 
+/** \a values, each after a space; numbers as precisely as Number() gives them. */
+template <typename T>
+std::string
+Listed(const std::vector<T> & values)
+{
+  std::ostringstream out;
+  out.precision(17);
+  for (const T & value : values)
+  {
+    out << " " << value;
+  }
+  return out.str();
+}
+
 /** Where the voxels of a file are and how they are stored. */
 struct Layout
 {
@@ -405,6 +419,18 @@ struct PlaneWriter::Output
       std::fclose(Header);
     }
   }
+
+  /** Deflates the stream's input (\a flush as zlib takes it) into the data file; false when writing fails. */
+  bool
+  Deflate(int flush, int & status)
+  {
+    Stream.next_out = Out.data();
+    Stream.avail_out = static_cast<uInt>(Out.size());
+    status = deflate(&Stream, flush);
+    const std::size_t produced = Out.size() - Stream.avail_out;
+    CompressedBytes += produced;
+    return produced == 0 || std::fwrite(Out.data(), 1, produced, File) == produced;
+  }
 };
 
 namespace
@@ -430,26 +456,8 @@ MetaImageHeader(const VolumeGeometry & geometry, bool compress, const std::strin
       header << " " << Number(geometry.Direction[row * n + column]);
     }
   }
-  header << "\nOffset =";
-  for (const double origin : geometry.Origin)
-  {
-    header << " " << Number(origin);
-  }
-  header << "\nCenterOfRotation =";
-  for (unsigned int a = 0; a < n; ++a)
-  {
-    header << " 0";
-  }
-  header << "\nElementSpacing =";
-  for (const double spacing : geometry.Spacing)
-  {
-    header << " " << Number(spacing);
-  }
-  header << "\nDimSize =";
-  for (const uint64_t size : geometry.Size)
-  {
-    header << " " << size;
-  }
+  header << "\nOffset =" << Listed(geometry.Origin) << "\nCenterOfRotation =" << Listed(std::vector<int>(n, 0))
+         << "\nElementSpacing =" << Listed(geometry.Spacing) << "\nDimSize =" << Listed(geometry.Size);
   header << "\nElementType = " << FindPixelType(geometry.ComponentType)->MetaImageName
          << "\nElementDataFile = " << dataFile << "\n";
   return header.str();
@@ -469,12 +477,7 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
   {
     header << "space dimension: " << n << "\n";
   }
-  header << "sizes:";
-  for (const uint64_t size : geometry.Size)
-  {
-    header << " " << size;
-  }
-  header << "\nspace directions:";
+  header << "sizes:" << Listed(geometry.Size) << "\nspace directions:";
   for (unsigned int column = 0; column < n; ++column)
   {
     header << " (";
@@ -484,11 +487,7 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
     }
     header << ")";
   }
-  header << "\nkinds:";
-  for (unsigned int a = 0; a < n; ++a)
-  {
-    header << " domain";
-  }
+  header << "\nkinds:" << Listed(std::vector<std::string>(n, "domain"));
   header << "\nendian: " << (itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian() ? "big" : "little")
          << "\nencoding: " << (compress ? "gzip" : "raw") << "\nspace origin: (";
   for (unsigned int a = 0; a < n; ++a)
@@ -633,15 +632,11 @@ PlaneWriter::Write(const void * buffer, uint64_t planes)
         out.Stream.avail_in = chunk;
         left -= chunk;
       }
-      out.Stream.next_out = out.Out.data();
-      out.Stream.avail_out = static_cast<uInt>(out.Out.size());
-      deflate(&out.Stream, Z_NO_FLUSH);
-      const std::size_t produced = out.Out.size() - out.Stream.avail_out;
-      if (produced > 0 && std::fwrite(out.Out.data(), 1, produced, out.File) != produced)
+      int status = Z_OK;
+      if (!out.Deflate(Z_NO_FLUSH, status))
       {
         failed();
       }
-      out.CompressedBytes += produced;
     }
   }
   m_PlanesWritten += planes;
@@ -662,18 +657,12 @@ PlaneWriter::Finish()
   }
   if (m_Compress)
   {
-    int status = Z_OK;
-    while (status != Z_STREAM_END)
+    for (int status = Z_OK; status != Z_STREAM_END;)
     {
-      out.Stream.next_out = out.Out.data();
-      out.Stream.avail_out = static_cast<uInt>(out.Out.size());
-      status = deflate(&out.Stream, Z_FINISH);
-      const std::size_t produced = out.Out.size() - out.Stream.avail_out;
-      if (produced > 0 && std::fwrite(out.Out.data(), 1, produced, out.File) != produced)
+      if (!out.Deflate(Z_FINISH, status))
       {
         failed();
       }
-      out.CompressedBytes += produced;
     }
     deflateEnd(&out.Stream);
     out.Deflating = false;
