@@ -120,20 +120,17 @@ SizesProblem(const std::string & field, const std::vector<std::string> & sizes)
   bool        whole = !sizes.empty();
   bool        empty = false;
   std::string shown;
+  std::string value;
   for (const std::string & text : sizes)
   {
     const std::optional<std::int64_t> size = ParseInteger(text);
     whole = whole && size && *size >= 0;
     empty = empty || (size && *size == 0);
     shown += (shown.empty() ? "" : " x ") + text;
+    value += " " + text;
   }
   if (!whole)
   {
-    std::string value;
-    for (const std::string & text : sizes)
-    {
-      value += " " + text;
-    }
     return "its header gives '" + field + value + "'; expected a whole number of voxels, at least 1, along each axis";
   }
   if (empty)
@@ -618,34 +615,16 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
 {
   const std::string name = Lowercase(path.filename().string());
   const bool        pair = EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz");
-  fs::path          header = path;
-  fs::path          data = path;
-  const auto        sibling = [&](const fs::path & of, const std::string & from, const std::string & to) {
-    std::string text = of.string();
-    text.replace(text.size() - from.size(), from.size(), to);
-    return fs::path(text);
-  };
-  const auto firstExisting = [](const std::vector<fs::path> & candidates) {
+  // The other file of a .hdr/.img pair: the path with its extension (\a from, perhaps with .gz) replaced by \a to,
+  // or by \a to and .gz when only that exists.
+  const auto partner = [&](const std::string & from, const std::string & to) {
+    std::string     other = path.string();
     std::error_code error;
-    for (const fs::path & candidate : candidates)
-    {
-      if (fs::exists(candidate, error))
-      {
-        return candidate;
-      }
-    }
-    return candidates.front();
+    other.replace(other.size() - from.size() - (EndsWith(name, ".gz") ? 3 : 0), std::string::npos, to);
+    return !fs::exists(other, error) && fs::exists(other + ".gz", error) ? fs::path(other + ".gz") : fs::path(other);
   };
-  if (pair)
-  {
-    const std::string suffix = EndsWith(name, ".gz") ? ".hdr.gz" : ".hdr";
-    data = firstExisting({ sibling(path, suffix, ".img"), sibling(path, suffix, ".img.gz") });
-  }
-  else if (EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
-  {
-    const std::string suffix = EndsWith(name, ".gz") ? ".img.gz" : ".img";
-    header = firstExisting({ sibling(path, suffix, ".hdr"), sibling(path, suffix, ".hdr.gz") });
-  }
+  const fs::path data = pair ? partner(".hdr", ".img") : path;
+  const fs::path header = EndsWith(name, ".img") || EndsWith(name, ".img.gz") ? partner(".img", ".hdr") : path;
   parts.Files = { header };
   AddFile(parts, data);
 
