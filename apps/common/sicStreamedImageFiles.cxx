@@ -70,20 +70,10 @@ Listed(const std::vector<T> & values)
   return out.str();
 }
 
-/** Where the voxels of a file are and how they are stored. */
-struct Layout
-{
-  std::string DataPath;
-  uint64_t    Offset{ 0 };
-  bool        AtEnd{ false }; // the data are the file's last bytes
-  bool        Compressed{ false };
-  bool        BigEndian{ false };
-};
-
-/** Where the voxels of the MetaImage or NRRD file \a path are, as its header says (FindImageFileParts, which
- * has skipped NRRD's lines and raw bytes to skip); refuses what does not stream. */
-Layout
-StreamedLayout(const std::string & path, const std::string & what)
+/** The parts of the MetaImage or NRRD file \a path, as its header says (FindImageFileParts, which has skipped
+ * NRRD's lines and raw bytes to skip): one data segment; refuses what does not stream. */
+ImageFileParts
+StreamedParts(const std::string & path, const std::string & what)
 {
   std::string          problem;
   const ImageFileParts parts = FindImageFileParts(path, problem);
@@ -118,14 +108,7 @@ StreamedLayout(const std::string & path, const std::string & what)
   {
     refuse("its voxels are spread over several files");
   }
-  const ImageDataSegment & segment = parts.Data.front();
-  Layout                   layout;
-  layout.DataPath = segment.File.string();
-  layout.Offset = segment.Offset;
-  layout.AtEnd = segment.AtEnd;
-  layout.Compressed = segment.Encoding == ImageDataEncoding::Deflate;
-  layout.BigEndian = parts.BigEndian;
-  return layout;
+  return parts;
 }
 } // namespace
 
@@ -164,7 +147,9 @@ StreamableFormats()
 struct PlaneReader::Data
 {
   std::FILE *                   File{ nullptr };
-  Layout                        Where;
+  ImageDataSegment              Where;
+  bool                          Compressed{ false };
+  bool                          BigEndian{ false };
   std::unique_ptr<InflateInput> Input;
   bool                          StreamEnded{ false };
   uint64_t                      BytesRead{ 0 };
@@ -252,34 +237,37 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
     }
   }
 
-  Data & data = *m_Data;
-  data.Where = StreamedLayout(path, what);
+  Data &               data = *m_Data;
+  const ImageFileParts parts = StreamedParts(path, what);
+  data.Where = parts.Data.front();
+  data.Compressed = data.Where.Encoding == ImageDataEncoding::Deflate;
+  data.BigEndian = parts.BigEndian;
   m_Files.push_back(path);
-  if (data.Where.DataPath != path)
+  if (data.Where.File.string() != path)
   {
-    m_Files.push_back(data.Where.DataPath);
+    m_Files.push_back(data.Where.File.string());
   }
   data.BytesTotal = m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
   std::error_code error;
-  const auto      fileSize = std::filesystem::file_size(data.Where.DataPath, error);
+  const auto      fileSize = std::filesystem::file_size(data.Where.File, error);
   if (error)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.DataPath) +
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.File) +
                     " cannot be opened (" + error.message() + ")");
   }
-  if (!std::filesystem::is_regular_file(data.Where.DataPath))
+  if (!std::filesystem::is_regular_file(data.Where.File))
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.DataPath) +
+    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.File) +
                     " is not a regular file");
   }
-  data.File = std::fopen(data.Where.DataPath.c_str(), "rb");
+  data.File = std::fopen(data.Where.File.string().c_str(), "rb");
   if (data.File == nullptr)
   {
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot open its data file " +
-                    Quoted(data.Where.DataPath) + " (" + std::strerror(errno) + ")");
+                    Quoted(data.Where.File) + " (" + std::strerror(errno) + ")");
   }
   uint64_t offset = data.Where.Offset;
-  if (!data.Where.Compressed)
+  if (!data.Compressed)
   {
     if (data.Where.AtEnd)
     {
@@ -289,15 +277,14 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
     {
       throw ToolError(what + " " + Quoted(path) + " is truncated: its header promises " +
                       std::to_string(data.BytesTotal) + " bytes of voxels but its data file " +
-                      Quoted(data.Where.DataPath) + " holds " +
-                      std::to_string(fileSize > offset ? fileSize - offset : 0));
+                      Quoted(data.Where.File) + " holds " + std::to_string(fileSize > offset ? fileSize - offset : 0));
     }
   }
   if (fseeko(data.File, static_cast<off_t>(offset), SEEK_SET) != 0)
   {
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot seek in its data file");
   }
-  if (data.Where.Compressed)
+  if (data.Compressed)
   {
     data.Input = std::make_unique<InflateInput>(data.File);
     if (!data.Input->Start())
@@ -312,7 +299,7 @@ PlaneReader::~PlaneReader() = default;
 bool
 PlaneReader::IsCompressed() const
 {
-  return m_Data->Where.Compressed;
+  return m_Data->Compressed;
 }
 
 void
@@ -324,12 +311,12 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   {
     throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": more planes asked for than it has");
   }
-  if (!data.Where.Compressed)
+  if (!data.Compressed)
   {
     if (std::fread(buffer, 1, bytes, data.File) != bytes)
     {
-      throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": its data file " +
-                      Quoted(data.Where.DataPath) + " ended early or could not be read");
+      throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": its data file " + Quoted(data.Where.File) +
+                      " ended early or could not be read");
     }
   }
   else
@@ -358,8 +345,7 @@ PlaneReader::Read(void * buffer, uint64_t planes)
     }
   }
   data.BytesRead += bytes;
-  const bool bigEndianData = data.Where.BigEndian;
-  if (m_Geometry.PixelBytes() > 1 && bigEndianData != itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian())
+  if (m_Geometry.PixelBytes() > 1 && data.BigEndian != itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian())
   {
     SwapBytes(buffer, bytes / m_Geometry.PixelBytes(), m_Geometry.PixelBytes());
   }
@@ -369,7 +355,7 @@ void
 PlaneReader::Finish()
 {
   Data & data = *m_Data;
-  if (data.BytesRead != data.BytesTotal || !data.Where.Compressed)
+  if (data.BytesRead != data.BytesTotal || !data.Compressed)
   {
     return;
   }
