@@ -22,7 +22,6 @@
 #include "itk_zlib.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -33,6 +32,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <utility>
 
 namespace sic
 {
@@ -561,14 +561,12 @@ template <typename T>
 T
 FieldAt(const std::vector<unsigned char> & header, size_t offset, bool swapped)
 {
-  std::array<unsigned char, sizeof(T)> bytes;
-  std::memcpy(bytes.data(), header.data() + offset, sizeof(T));
+  T value;
+  std::memcpy(&value, header.data() + offset, sizeof(T));
   if (swapped)
   {
-    std::reverse(bytes.begin(), bytes.end());
+    std::reverse(reinterpret_cast<unsigned char *>(&value), reinterpret_cast<unsigned char *>(&value) + sizeof(T));
   }
-  T value;
-  std::memcpy(&value, bytes.data(), sizeof(T));
   return value;
 }
 
@@ -712,25 +710,21 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
 ImageFileFormat
 ImageFileFormatOf(const fs::path & path)
 {
+  using F = ImageFileFormat;
+  static const std::pair<const char *, F> extensions[] = {
+    { ".nrrd", F::Nrrd }, { ".nhdr", F::Nrrd },    { ".mha", F::MetaImage }, { ".mhd", F::MetaImage },
+    { ".nii", F::Nifti }, { ".nii.gz", F::Nifti }, { ".hdr", F::Nifti },     { ".hdr.gz", F::Nifti },
+    { ".img", F::Nifti }, { ".img.gz", F::Nifti }, { ".png", F::Png },
+  };
   const std::string name = Lowercase(path.filename().string());
-  if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+  for (const auto & [extension, format] : extensions)
   {
-    return ImageFileFormat::Nrrd;
+    if (EndsWith(name, extension))
+    {
+      return format;
+    }
   }
-  if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
-  {
-    return ImageFileFormat::MetaImage;
-  }
-  if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz") || EndsWith(name, ".hdr") || EndsWith(name, ".hdr.gz") ||
-      EndsWith(name, ".img") || EndsWith(name, ".img.gz"))
-  {
-    return ImageFileFormat::Nifti;
-  }
-  if (EndsWith(name, ".png"))
-  {
-    return ImageFileFormat::Png;
-  }
-  return ImageFileFormat::Other;
+  return F::Other;
 }
 
 bool
