@@ -692,17 +692,12 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
     // A single file's voxels never start inside its header.
     voxelOffset = std::max<std::uint64_t>(voxelOffset, static_cast<std::uint64_t>(headerBytes));
   }
+  // The voxels of a .gz file start at that offset of its inflated data.
+  const bool       gzip = EndsWith(Lowercase(data.filename().string()), ".gz");
   ImageDataSegment segment;
   segment.File = data;
-  if (EndsWith(Lowercase(data.filename().string()), ".gz"))
-  {
-    segment.Encoding = ImageDataEncoding::Deflate;
-    segment.InflatedOffset = voxelOffset;
-  }
-  else
-  {
-    segment.Offset = voxelOffset;
-  }
+  segment.Encoding = gzip ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
+  (gzip ? segment.InflatedOffset : segment.Offset) = voxelOffset;
   parts.Data.push_back(segment);
 }
 } // namespace
