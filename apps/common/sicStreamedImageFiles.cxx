@@ -37,16 +37,6 @@ namespace
 {
 constexpr std::size_t CompressedChunk = std::size_t{ 256 } << 10;
 
-void
-SwapBytes(void * buffer, uint64_t values, unsigned int bytes)
-{
-  auto * p = static_cast<uint8_t *>(buffer);
-  for (uint64_t v = 0; v < values; ++v, p += bytes)
-  {
-    std::reverse(p, p + bytes);
-  }
-}
-
 std::string
 Number(double value)
 {
@@ -146,22 +136,14 @@ StreamableFormats()
 
 struct PlaneReader::Data
 {
-  std::FILE *                   File{ nullptr };
-  ImageDataSegment              Where;
-  bool                          Compressed{ false };
-  bool                          BigEndian{ false };
-  std::unique_ptr<InflateInput> Input;
-  bool                          StreamEnded{ false };
-  uint64_t                      BytesRead{ 0 };
-  uint64_t                      BytesTotal{ 0 };
-
-  ~Data()
-  {
-    if (File != nullptr)
-    {
-      std::fclose(File);
-    }
-  }
+  std::unique_ptr<std::FILE, int (*)(std::FILE *)> File{ nullptr, std::fclose };
+  ImageDataSegment                                 Where;
+  bool                                             Compressed{ false };
+  bool                                             BigEndian{ false };
+  std::unique_ptr<InflateInput>                    Input;
+  bool                                             StreamEnded{ false };
+  uint64_t                                         BytesRead{ 0 };
+  uint64_t                                         BytesTotal{ 0 };
 
   /** Inflates the next compressed bytes into the stream's output; throws \a cutShort (after the image's name)
    * when the data file holds no more, and says so when the data are corrupt. */
@@ -260,8 +242,8 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.File) +
                     " is not a regular file");
   }
-  data.File = std::fopen(data.Where.File.string().c_str(), "rb");
-  if (data.File == nullptr)
+  data.File.reset(std::fopen(data.Where.File.string().c_str(), "rb"));
+  if (!data.File)
   {
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot open its data file " +
                     Quoted(data.Where.File) + " (" + std::strerror(errno) + ")");
@@ -280,13 +262,13 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
                       Quoted(data.Where.File) + " holds " + std::to_string(fileSize > offset ? fileSize - offset : 0));
     }
   }
-  if (fseeko(data.File, static_cast<off_t>(offset), SEEK_SET) != 0)
+  if (fseeko(data.File.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
   {
     throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot seek in its data file");
   }
   if (data.Compressed)
   {
-    data.Input = std::make_unique<InflateInput>(data.File);
+    data.Input = std::make_unique<InflateInput>(data.File.get());
     if (!data.Input->Start())
     {
       throw ToolError("cannot read " + what + " " + Quoted(path) + ": the decompressor could not start");
@@ -313,7 +295,7 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   }
   if (!data.Compressed)
   {
-    if (std::fread(buffer, 1, bytes, data.File) != bytes)
+    if (std::fread(buffer, 1, bytes, data.File.get()) != bytes)
     {
       throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": its data file " + Quoted(data.Where.File) +
                       " ended early or could not be read");
@@ -347,7 +329,11 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   data.BytesRead += bytes;
   if (m_Geometry.PixelBytes() > 1 && data.BigEndian != itk::ByteSwapper<std::uint16_t>::SystemIsBigEndian())
   {
-    SwapBytes(buffer, bytes / m_Geometry.PixelBytes(), m_Geometry.PixelBytes());
+    const unsigned int size = m_Geometry.PixelBytes();
+    for (auto * pixel = static_cast<uint8_t *>(buffer); pixel < static_cast<uint8_t *>(buffer) + bytes; pixel += size)
+    {
+      std::reverse(pixel, pixel + size);
+    }
   }
 }
 
