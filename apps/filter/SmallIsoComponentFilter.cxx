@@ -585,12 +585,18 @@ struct StreamingPlan
 /** The error for a limit too small for this image, saying \a why, the bound and what to change. The figures
  * have a MiB to spare: the process's own size varies from run to run by a fraction of one. */
 sic::ToolError
-LimitTooSmall(std::uint64_t limit, std::uint64_t maximumSize, const StreamingPlan & plan, const std::string & why)
+LimitTooSmall(const sic::FilterSettings & settings,
+              std::uint64_t               limit,
+              std::uint64_t               maximumSize,
+              const StreamingPlan &       plan,
+              const std::string &         why)
 {
-  return sic::ToolError("--memory-limit " + std::to_string(limit >> 20) +
-                        " MiB is too small to stream this image with K = " + std::to_string(maximumSize) + ": " + why +
-                        " and at most about " + std::to_string((plan.BoundBytes >> 20) + 2) +
-                        " MiB; expected a larger limit or a smaller K");
+  const std::string what = settings.MemoryLimit > 0 ? "--memory-limit "
+                                                    : "the memory the tool may use (three quarters "
+                                                      "of the available memory), ";
+  return sic::ToolError(what + std::to_string(limit >> 20) + " MiB is too small to stream this image with K = " +
+                        std::to_string(maximumSize) + ": " + why + " and at most about " +
+                        std::to_string((plan.BoundBytes >> 20) + 2) + " MiB; expected a larger limit or a smaller K");
 }
 
 /** The slabs to stream the input in within \a limit bytes. The window's bound holds 2K planes beyond each slab,
@@ -620,7 +626,8 @@ PlanStreaming(const sic::FilterSettings & settings,
   }
   if (plan.SlabPlanes == 0)
   {
-    throw LimitTooSmall(limit,
+    throw LimitTooSmall(settings,
+                        limit,
                         maximumSize,
                         plan,
                         "it needs about " + std::to_string(((plan.ProcessBytes + leastWindow) >> 20) + 2) +
@@ -681,7 +688,8 @@ FilterStreamed(const sic::FilterSettings & settings,
   }
   catch (const sic::MemoryLimitPassed & passed)
   {
-    throw LimitTooSmall(limit,
+    throw LimitTooSmall(settings,
+                        limit,
                         maximumSize,
                         plan,
                         "the run passed it after " + std::to_string(passed.Planes) + " of " +

@@ -8,6 +8,7 @@ Environment: SIC_FILTER, SIC_PHANTOM, SIC_PROBE (see SmallIsoComponentCLITest.py
 SIC_SCRATCH, SIC_SANITIZER (the sanitizer the tools were built with, if any).
 """
 
+import contextlib
 import gzip
 import json
 import os
@@ -399,51 +400,73 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
             self.assertIn("whole volume", result.stderr)
         self.assertEqual(sorted(os.listdir(self.dir)), ["phantom.nrrd"])
 
-    def test_a_volume_larger_than_a_memory_control_group_streams_by_itself(self):
-        """The tool in a control group whose memory limit is smaller than the volume: without
-        --memory-limit it must see the limit, stream, stay within it and give the in-memory result."""
-        self.skip_unless_memory_is_measurable()
+    @contextlib.contextmanager
+    def memory_control_group(self, limit):
+        """A control group whose memory limit is \a limit bytes; yields the command prefix that runs a program
+        in it. Skips the test where none can be made."""
         group = None
-        for root, limit_file, procs in (("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "cgroup.procs"),
-                                        ("/sys/fs/cgroup", "memory.max", "cgroup.procs")):
+        for root, limit_file in (("/sys/fs/cgroup/memory", "memory.limit_in_bytes"), ("/sys/fs/cgroup", "memory.max")):
             if os.path.exists(os.path.join(root, limit_file if root.endswith("memory") else "cgroup.controllers")):
                 candidate = os.path.join(root, "smalliso-test-%d" % os.getpid())
                 try:
                     os.mkdir(candidate)
                 except OSError:
                     continue
-                group = (candidate, limit_file, procs)
+                group = (candidate, limit_file)
                 break
         if group is None:
             print("skipped: no memory control group can be made here (needs root and a cgroup memory controller)")
             raise unittest.SkipTest("no memory control group")
-        directory, limit_file, procs = group
+        directory, limit_file = group
         try:
-            source = self.phantom("512", "large.mhd", "--no-compression")  # 256 MiB of int16 voxels
-            reference = self.filtered(source, self.path("memory.mhd"), "--no-compression")
-            limit = 192 << 20
             try:
                 with open(os.path.join(directory, limit_file), "w") as file:
                     file.write(str(limit))
             except OSError as error:
                 print("skipped: the control group's memory limit cannot be set (%s)" % error)
                 raise unittest.SkipTest("no memory limit")
-            inside = ["sh", "-c", 'echo $$ > "$0" && exec "$@"', os.path.join(directory, procs),
-                      FILTER, source, self.path("streamed.mhd"), "--isovalue", ISOVALUE, "--max-size", "20",
-                      "--no-compression", "--stats", self.path("streamed.json"), "--quiet"]
-            self.check(run(*inside))
-            streamed = load_json(self.path("streamed.json"))
-            for key in IMAGE_STATISTICS:
-                self.assertEqual(streamed["statistics"][key], reference["statistics"][key], key)
-            self.assertEqual(streamed["statistics"]["mode"], "streaming")
-            self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
-            self.assertSameImages(self.path("streamed.mhd"), self.path("memory.mhd"))
+            yield ["sh", "-c", 'echo $$ > "$0" && exec "$@"', os.path.join(directory, "cgroup.procs")]
         finally:
             try:
                 os.rmdir(directory)
             except OSError:
                 pass
 
+    def test_a_volume_larger_than_a_memory_control_group_streams_by_itself(self):
+        """The tool in a control group whose memory limit is smaller than the volume: without
+        --memory-limit it must see the limit, stream, stay within it and give the in-memory result."""
+        self.skip_unless_memory_is_measurable()
+        source = self.phantom("512", "large.mhd", "--no-compression")  # 256 MiB of int16 voxels
+        reference = self.filtered(source, self.path("memory.mhd"), "--no-compression")
+        limit = 192 << 20
+        with self.memory_control_group(limit) as inside:
+            self.check(run(*inside, FILTER, source, self.path("streamed.mhd"), "--isovalue", ISOVALUE, "--max-size",
+                           "20", "--no-compression", "--stats", self.path("streamed.json"), "--quiet"))
+        streamed = load_json(self.path("streamed.json"))
+        for key in IMAGE_STATISTICS:
+            self.assertEqual(streamed["statistics"][key], reference["statistics"][key], key)
+        self.assertEqual(streamed["statistics"]["mode"], "streaming")
+        self.assertLessEqual(streamed["statistics"]["peak_resident_bytes"], limit)
+        self.assertSameImages(self.path("streamed.mhd"), self.path("memory.mhd"))
+
+    def test_a_run_that_streams_by_itself_stops_within_its_share(self):
+        """Streaming by itself, the tool watches the three quarters of the available memory it chose, and
+        says that it chose them when a run passes them."""
+        self.skip_unless_memory_is_measurable()
+        plane = bytearray(512 * 512)
+        plane[256 * 512 + 256] = 200
+        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 512 512 512\nendian: little\nencoding: raw\n\n"
+        with open(self.path("line.nrrd"), "wb") as file:
+            file.write(header.encode())
+            for _ in range(512):
+                file.write(plane)
+        output = self.path("out.nrrd")
+        with self.memory_control_group(96 << 20) as inside:
+            result = run(*inside, FILTER, self.path("line.nrrd"), output, "--isovalue", "128", "--max-size", "1000",
+                         "--quiet")
+        self.assertUsageError(result, "the memory the tool may use (three quarters of the available memory)",
+                              "the run passed it after")
+        self.assertFalse(os.path.exists(output))
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1] + sys.argv[1:])
