@@ -393,6 +393,16 @@ ImageFileProblem(const ImageFileParts & parts)
   {
     return PngProblem(parts.Files.front());
   }
+  if (parts.SeriesFiles > 0 && parts.Data.size() < parts.SeriesFiles)
+  {
+    return "is incomplete: its header describes " + std::to_string(parts.SeriesFiles) +
+           " data files of a slice each and names " + std::to_string(parts.Data.size());
+  }
+  // A file of a series that holds less than its slice leaves the rest of the slice unread.
+  const auto shortFile = [&](const ImageDataSegment & segment, std::uint64_t bytes) {
+    return "is incomplete: its data file " + Quoted(segment.File) + " holds " + Bytes(bytes) +
+           " of voxels and each file of its series holds a slice of " + Bytes(parts.SeriesFileBytes);
+  };
   std::uint64_t available = 0;
   bool          checked = !parts.Data.empty();
   // Whether the data are compressed and should inflate to the voxels alone.
@@ -428,7 +438,12 @@ ImageFileProblem(const ImageFileParts & parts)
     {
       exact = false;
       const std::uint64_t size = fs::file_size(segment.File, error);
-      available += segment.AtEnd ? size : size - std::min(size, segment.Offset);
+      const std::uint64_t bytes = segment.AtEnd ? size : size - std::min(size, segment.Offset);
+      if (bytes < parts.SeriesFileBytes)
+      {
+        return shortFile(segment, bytes);
+      }
+      available += bytes;
       continue;
     }
     const bool         metaImage = parts.Format == ImageFileFormat::MetaImage;
@@ -450,7 +465,12 @@ ImageFileProblem(const ImageFileParts & parts)
         return problem;
       }
     }
-    available += inflated.Bytes - std::min(inflated.Bytes, segment.InflatedOffset);
+    const std::uint64_t bytes = inflated.Bytes - std::min(inflated.Bytes, segment.InflatedOffset);
+    if (bytes < parts.SeriesFileBytes)
+    {
+      return shortFile(segment, bytes);
+    }
+    available += bytes;
     exact = exact && !segment.AtEnd;
   }
   if (checked && parts.DataBytes && available < *parts.DataBytes)

@@ -478,6 +478,30 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       return;
     }
   }
+  // MetaIO fails on these with lines that name another field, and ITK with "Reason: Success".
+  for (const char * numeric : { "ElementSpacing",
+                                "ElementSize",
+                                "Offset",
+                                "Position",
+                                "Origin",
+                                "TransformMatrix",
+                                "Rotation",
+                                "Orientation",
+                                "CenterOfRotation" })
+  {
+    for (const std::string & word : fields.count(numeric) ? Words(fields[numeric]) : std::vector<std::string>{})
+    {
+      char *       end = nullptr;
+      const double number = std::strtod(word.c_str(), &end);
+      if (*end != '\0' || !std::isfinite(number))
+      {
+        problem = std::string("its header's '") + numeric + " = " + fields[numeric] +
+                  "' holds a word that is not a finite number; expected finite numbers";
+        parts.UnsafeForItk = true;
+        return;
+      }
+    }
+  }
   const std::uint64_t headerEnd = reader.Offset();
   const bool          ended = reader.LineEnded();
 
@@ -489,6 +513,13 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   const std::uint64_t               typeBytes = MetaTypeBytes(fields["ElementType"]);
   // MetaIO reads the first NDims sizes.
   const bool counted = dimensions && *dimensions >= 1 && static_cast<size_t>(*dimensions) <= sizes.size();
+  if (dimensions && *dimensions >= 1 && !counted)
+  {
+    problem = "its header's 'DimSize = " + fields["DimSize"] + "' has " + std::to_string(sizes.size()) +
+              " sizes for NDims = " + std::to_string(*dimensions) + "; expected one size per axis";
+    parts.UnsafeForItk = true;
+    return;
+  }
   const std::vector<std::string> axes(sizes.begin(), counted ? sizes.begin() + *dimensions : sizes.end());
   problem = SizesProblem("DimSize =", axes);
   if (!problem.empty())
@@ -538,6 +569,21 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   }
   // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
   parts.DataFileSeries = series || value.find('%') != std::string::npos;
+  // Each file of a series holds the next slice of the last NDims - 1 axes, or of "LIST ND"'s N; MetaIO reads no
+  // more from it, and leaves the voxels of a file it cannot read as they were.
+  const bool    listed = value.compare(0, 4, "LIST") == 0;
+  std::uint64_t fileAxes = axes.size() - 1;
+  if (listed)
+  {
+    const std::optional<std::int64_t> given = ParseLeadingInteger(Trim(value.substr(4)));
+    fileAxes = given && *given >= 1 && static_cast<std::uint64_t>(*given) <= axes.size() ? *given : fileAxes;
+  }
+  if (parts.DataFileSeries && !parts.TextData && (listed || Words(value).size() <= 4) && parts.DataBytes &&
+      axes.size() >= 2)
+  {
+    parts.SeriesFiles = DataBytesOf(std::vector<std::string>(axes.begin() + fileAxes, axes.end()), 1).value_or(0);
+    parts.SeriesFileBytes = parts.SeriesFiles > 0 ? *parts.DataBytes / parts.SeriesFiles : 0;
+  }
 }
 
 /** Reads the first \a count bytes of \a path, through gzip when it is compressed. */
@@ -687,10 +733,15 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
     const float offset = FieldAt<float>(bytes, 108, swapped);
     voxelOffset = std::isfinite(offset) && offset > 0.0f && offset < 1e15f ? static_cast<std::uint64_t>(offset) : 0;
   }
-  if (!pair && header == data)
+  // A single file's voxels start after its header and the 4 bytes that say whether extensions follow; ITK's
+  // reader takes a smaller vox_offset as the header's size, and reads those 4 bytes as voxels.
+  const std::uint64_t firstVoxel = static_cast<std::uint64_t>(headerBytes) + 4;
+  if (!pair && header == data && voxelOffset < firstVoxel)
   {
-    // A single file's voxels never start inside its header.
-    voxelOffset = std::max<std::uint64_t>(voxelOffset, static_cast<std::uint64_t>(headerBytes));
+    problem = "its vox_offset is " + std::to_string(voxelOffset) + "; the voxels of a single NIfTI file start at " +
+              std::to_string(firstVoxel) + " or later";
+    parts.UnsafeForItk = true;
+    return;
   }
   // The voxels of a .gz file start at that offset of its inflated data.
   const bool       gzip = EndsWith(Lowercase(data.filename().string()), ".gz");

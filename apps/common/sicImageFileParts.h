@@ -84,6 +84,10 @@ struct ImageFileParts
   bool UnsafeForItk{ false };
   /** Whether the header names its data files as a list or a numbered series (even a series of one file). */
   bool DataFileSeries{ false };
+  /** A MetaImage list or numbered series: how many files its reader reads, each for the next slice (or slab) of
+   * SeriesFileBytes bytes; 0 when the header does not say. */
+  std::uint64_t SeriesFiles{ 0 };
+  std::uint64_t SeriesFileBytes{ 0 };
   /** Whether the voxels' bytes are stored most significant first: NRRD's "endian: big", MetaImage's
    * BinaryDataByteOrderMSB or ElementByteOrderMSB True (whichever of them comes last). */
   bool BigEndian{ false };

@@ -613,6 +613,43 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
             self.assertUsageError(run(*tool, "--isovalue", "0.5"), "header ends before ElementDataFile")
         self.assertNotIn("o.mha", self.listing())
 
+    def test_headers_itks_readers_misread_are_refused(self):
+        # ITK's MetaImage reader reads a series' files a slice each and leaves the slices of missing or short files
+        # as the memory held them; its NIfTI reader takes a single file's vox_offset below 352 as 348 and reads the
+        # extension flags as voxels; MetaIO fails on too few sizes or a word that is not a number with lines that
+        # name another field.
+        data = bytes(range(256)) * (2 * 4 * 4 * 4 // 256) + bytes(2 * 4 * 4 * 4 % 256)
+        write_metaimage(self.path("one-file.mhd"), [4, 4, 4], data, data_file="LIST 2D\none.raw")
+        os.rename(self.path("LIST 2D\none.raw"), self.path("one.raw"))
+        with open(self.path("short.mhd"), "w") as file:
+            file.write("ObjectType = Image\nNDims = 3\nDimSize = 4 4 2\nElementType = MET_SHORT\n"
+                       "ElementDataFile = LIST\nfirst.raw\nsecond.raw\n")
+        with open(self.path("first.raw"), "wb") as file:
+            file.write(bytes(2 * 4 * 4 + 6))
+        with open(self.path("second.raw"), "wb") as file:
+            file.write(bytes(2 * 4 * 4 - 6))
+        write_nifti(self.path("offset.nii"), [4, 4, 4], data)
+        with open(self.path("offset.nii"), "r+b") as file:
+            file.seek(108)
+            file.write(struct.pack("<f", 0.0))
+        header = "ObjectType = Image\nNDims = 3\nDimSize = %s\nElementType = MET_SHORT\n%sElementDataFile = LOCAL\n"
+        with open(self.path("sizes.mha"), "wb") as file:
+            file.write((header % ("4 4", "")).encode() + data)
+        with open(self.path("spacing.mha"), "wb") as file:
+            file.write((header % ("4 4 4", "ElementSpacing = nan 1 1\n")).encode() + data)
+        cases = (("one-file.mhd", ["describes 4 data files of a slice each and names 1"]),
+                 ("short.mhd", ["data file", "second.raw", "holds 26 bytes", "a slice of 32 bytes"]),
+                 ("offset.nii", ["its vox_offset is 0", "start at 352 or later"]),
+                 ("sizes.mha", ["'DimSize = 4 4' has 2 sizes for NDims = 3", "expected one size per axis"]),
+                 ("spacing.mha", ["'ElementSpacing = nan 1 1'", "expected finite numbers"]))
+        before = self.listing()
+        for name, words in cases:
+            with self.subTest(input=name):
+                self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "0.5"),
+                                      name, *words)
+                self.assertUsageError(run(REPORT, self.path(name), "--isovalue", "0.5"), name, *words)
+        self.assertEqual(self.listing(), before)
+
     def test_nifti_sforms_itks_reader_cannot_decompose_are_refused(self):
         # ITK's NIfTI reader aborts on a sform number that is not finite (the fuzzer found it) and hangs
         # when the matrix's norm overflows single precision.
