@@ -738,8 +738,8 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
   const std::uint64_t firstVoxel = static_cast<std::uint64_t>(headerBytes) + 4;
   if (!pair && header == data && voxelOffset < firstVoxel)
   {
-    problem = "its vox_offset is " + std::to_string(voxelOffset) + "; the voxels of a single NIfTI file start at " +
-              std::to_string(firstVoxel) + " or later";
+    problem = "its vox_offset is " + std::to_string(voxelOffset) + "; expected " + std::to_string(firstVoxel) +
+              " or more, where a single NIfTI file's voxels can start";
     parts.UnsafeForItk = true;
     return;
   }

@@ -18,6 +18,7 @@
 #include "sicImageFiles.h"
 #include "sicImageDataCheck.h"
 #include "sicImageFileParts.h"
+#include "sicStrings.h"
 
 #include "itkImageIOFactory.h"
 #include "vnl/algo/vnl_determinant.h"
@@ -115,6 +116,18 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   itk::ImageIOBase::Pointer io =
     itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io && EndsWith(Lowercase(path), ".gz"))
+  {
+    // A small file's header is read through a gzip stream that is checked at its end, so a corrupt stream looks
+    // like no image at all.
+    std::string problem;
+    Inflate(path, 0, true, problem);
+    if (!problem.empty())
+    {
+      refuse((problem == "is cut short" ? "is incomplete: " : "is corrupt: ") + std::string("its compressed data ") +
+             problem);
+    }
+  }
   if (!io)
   {
     throw ToolError("cannot read " + what + " " + quoted +
