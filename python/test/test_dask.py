@@ -201,6 +201,9 @@ def test_each_chunk_is_filtered_once_when_the_parts_are_computed_together(monkey
     (dict(chunks=(2, float("nan"))), ValueError, r"chunks is \(2, nan\).*expected positive chunk edges"),
     (dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2)[da.arange(4, chunks=2) > 0], chunks=2), ValueError,
      "unknown chunk sizes"),
+    (dict(array=da.ma.masked_greater(da.arange(20, dtype=np.uint8, chunks=5).reshape(4, 5), 10)), TypeError,
+     "array is a Dask array of masked arrays, whose mask the filter cannot honour"),
+    (dict(array=np.ma.masked_array(np.zeros((4, 5), np.uint8), mask=True)), TypeError, "masked arrays"),
 ])
 def test_bad_arguments_give_clear_errors(arguments, error, message):
     call = dict(array=da.zeros((4, 5), dtype=np.uint8, chunks=2), isovalue=1.0)
@@ -224,3 +227,17 @@ def test_unknown_chunk_sizes_are_refused():
     unknown = x[x[:, 0] > 3]
     with pytest.raises(ValueError, match="unknown chunk sizes.*compute_chunk_sizes"):
         smalliso.dask.remove_small_components(unknown, 1.0)
+
+
+def test_a_dask_array_of_masked_arrays_is_refused_as_a_masked_array_is():
+    volume = np.arange(1000, dtype=np.uint16).reshape(10, 10, 10)
+    with pytest.raises(TypeError, match="array is a masked array") as in_memory:
+        smalliso.remove_small_components(np.ma.masked_greater(volume, 500), 300.0)
+    masked = da.ma.masked_greater(da.from_array(volume, chunks=5), 500)
+    for call in (lambda: smalliso.dask.remove_small_components(masked, 300.0),
+                 lambda: smalliso.dask.remove_small_components(masked, 300.0, return_mask=True, chunks=10)):
+        with pytest.raises(TypeError, match="masked arrays, whose mask the filter cannot honour") as raised:
+            call()
+        # The same advice as the in-memory function's, in Dask's terms.
+        assert str(raised.value).endswith(str(in_memory.value).split("; ", 1)[1].replace(
+            "array.filled(value)", "dask.array.ma.filled(array, value)"))

@@ -133,7 +133,8 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     with known chunk sizes (or anything ``dask.array.asarray`` takes), or an array stored in chunks
     that NumPy-style slicing reads, such as a ``zarr.Array``. ``threads`` is the number of threads
     of each task's C++ code (default 1: Dask runs the tasks in parallel). ``chunks``, in any form
-    ``dask.array`` takes, sets the chunks of the tasks and of the result (default the input's).
+    ``dask.array`` takes, sets the chunks of the tasks and of the result (default the input's). A
+    Dask array of masked arrays (``dask.array.ma``) is refused, as a masked array is in memory.
 
     Each output chunk is computed from the input chunk and a halo of K voxels around it (2K for
     side "both"), so a task holds about (chunk + 2 halo)^3 voxels: choose chunks well larger than
@@ -169,6 +170,12 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         source = _StoredInput(array, _task_chunks(chunks, array))
     else:
         array = da.asarray(array)
+        if isinstance(array._meta, np.ma.MaskedArray):
+            # Each chunk would reach the filter through numpy.asarray, which drops its mask: the masked
+            # voxels' hidden values would be filtered as data.
+            raise TypeError("array is a Dask array of masked arrays, whose mask the filter cannot honour; expected "
+                            "a plain array, such as dask.array.ma.filled(array, value) with a value on the side the "
+                            "masked voxels belong to")
         if any(np.isnan(extent) for extents in array.chunks for extent in extents):
             raise ValueError("the Dask array has unknown chunk sizes; call array.compute_chunk_sizes() first")
         source = _DaskInput(array if chunks is None else array.rechunk(_task_chunks(chunks, array)))
