@@ -2,6 +2,7 @@
 results and JSON statistics against the in-memory function and the command-line tool, a failure
 that leaves nothing behind, errors)."""
 
+import functools
 import itertools
 import json
 import os
@@ -351,6 +352,74 @@ def test_a_signal_leaves_nothing_and_one_line(tmp_path, signum):
     assert leftovers(tmp_path) == []
     assert zarr.open_array(str(tmp_path / "out.zarr"), mode="r").shape == (2, 2)
     assert not (tmp_path / "mask.zarr").exists()
+
+
+# Runs the command with every rename into the path named first preceded by the signal numbered
+# second, raised in the command itself (whose handler runs at once, before the rename): the signal
+# comes while the outputs are being put in place.
+SIGNAL_IN_THE_COMMIT = """
+import os, runpy, signal, sys
+
+name, signum = sys.argv[1], int(sys.argv[2])
+rename = os.rename
+
+def signalling_rename(source, destination):
+    if os.path.basename(destination) == name:
+        signal.raise_signal(signum)
+    rename(source, destination)
+
+os.rename = os.replace = signalling_rename
+sys.argv = ["smalliso.dask"] + sys.argv[3:]
+runpy.run_module("smalliso.dask", run_name="__main__", alter_sys=True)
+"""
+
+
+@pytest.mark.parametrize("name, signum", [("out.zarr", signal.SIGTERM), ("mask.zarr", signal.SIGTERM),
+                                          ("st.json", signal.SIGTERM), ("mask.zarr", signal.SIGINT),
+                                          ("mask.zarr", signal.SIGHUP)])
+def test_a_signal_while_the_outputs_are_put_in_place_waits_for_all(tmp_path, monkeypatch, name, signum):
+    volume = np.random.default_rng(9).integers(0, 256, (12, 12, 12), dtype=np.uint8)
+    save(tmp_path / "in.zarr", volume, (6, 6, 6))
+    expected = {size: smalliso.remove_small_components(volume, 150.0, size, return_mask=True) for size in (20, 5)}
+    assert not same_bits(expected[20][1], expected[5][1])
+    monkeypatch.chdir(tmp_path)
+    arguments = ["in.zarr", "out.zarr", "--isovalue", "150", "--removed-mask", "mask.zarr", "--stats", "st.json",
+                 "--quiet"]
+    assert command.main(arguments + ["--max-size", "20"]) == 0
+    process = subprocess.run([sys.executable, "-c", SIGNAL_IN_THE_COMMIT, name, str(int(signum))] + arguments
+                             + ["--max-size", "5"], capture_output=True, text=True, timeout=120)
+    assert process.returncode == -signum, (process.returncode, process.stderr)
+    assert process.stderr == (f"smalliso.dask: stopped by {signal.Signals(signum).name}; 'out.zarr', 'mask.zarr' "
+                              "and 'st.json' all written before it\n")
+    # Every output of the second run, none of the first.
+    assert same_bits(zarr.open_array("out.zarr", mode="r")[...], expected[5][0])
+    assert same_bits(zarr.open_array("mask.zarr", mode="r")[...], expected[5][1])
+    with open("st.json") as stream:
+        assert json.load(stream)["parameters"]["max_size"] == 5
+    assert leftovers(tmp_path) == []
+
+
+def test_a_failure_while_the_outputs_are_put_in_place_keeps_the_earlier_ones(tmp_path, monkeypatch):
+    volume = np.random.default_rng(9).integers(0, 256, (12, 12, 12), dtype=np.uint8)
+    save(tmp_path / "in.zarr", volume, (6, 6, 6))
+    run = functools.partial(smalliso.dask.remove_small_components_zarr, tmp_path / "in.zarr", tmp_path / "out.zarr",
+                            150.0, removed_mask=tmp_path / "mask.zarr")
+    run(20)
+    earlier = {name: zarr.open_array(str(tmp_path / name), mode="r")[...] for name in ("out.zarr", "mask.zarr")}
+    rename = os.rename
+
+    def failing_rename(source, destination):
+        if os.path.basename(destination) == "mask.zarr" and source.endswith(".partial"):
+            raise OSError("the mask's rename failed")
+        rename(source, destination)
+
+    monkeypatch.setattr(os, "rename", failing_rename)
+    with pytest.raises(OSError, match="mask's rename failed"):
+        run(5)
+    # The image was put in place first; it is taken back, and the earlier one put back.
+    for name, values in earlier.items():
+        assert same_bits(zarr.open_array(str(tmp_path / name), mode="r")[...], values), name
+    assert leftovers(tmp_path) == []
 
 
 def test_a_failure_leaves_nothing_once_the_running_writes_end(tmp_path, monkeypatch):

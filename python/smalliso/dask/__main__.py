@@ -6,7 +6,6 @@ import json
 import os
 import signal
 import sys
-import tempfile
 import time
 
 import dask
@@ -15,7 +14,7 @@ from dask.array.core import normalize_chunks
 
 import smalliso
 
-from ._zarr import check_paths, open_input, remove_small_components_zarr, stored_chunks
+from ._zarr import check_paths, filter_into_staging, open_input, stored_chunks
 
 TOOL = "smalliso.dask"
 LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -45,8 +44,8 @@ def _parser():
                     "Zarr array (specks of voxels >= S, bubbles of voxels < S), chunk by chunk with Dask, and "
                     "writes a new Zarr array with the same shape, chunks, dtype and compressor. The result is "
                     "voxel for voxel that of SmallIsoComponentFilter on the whole array (C order: the last axis "
-                    "is x). The output appears only when complete: it is written into a temporary directory "
-                    "beside it and renamed into place.")
+                    "is x). The outputs appear together, only when all are complete: each is written beside "
+                    "its path and all are then renamed into place.")
     parser.add_argument("input", metavar="IN.zarr", help="the Zarr array to filter (a directory store)")
     parser.add_argument("output", metavar="OUT.zarr",
                         help="where to write the filtered array: a new path, or an earlier output (a Zarr array and "
@@ -129,21 +128,6 @@ def _json_text(value, indent=""):
     return json.dumps(value)
 
 
-def _write_json_atomically(path, document):
-    directory = os.path.dirname(os.path.abspath(path))
-    handle, staging = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".partial", dir=directory)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(staging, 0o666 & ~umask)
-        with os.fdopen(handle, "w") as stream:
-            stream.write(_json_text(document) + "\n")
-        os.replace(staging, path)
-    except BaseException:
-        os.unlink(staging)
-        raise
-
-
 @contextlib.contextmanager
 def _scheduler(name):
     """None while one of Dask's local schedulers is the scheduler, or a client of a cluster."""
@@ -164,8 +148,11 @@ def _scheduler(name):
 
 
 # Termination signals end the command as SIGINT does: the staged outputs are removed, one line
-# says so, and the process ends as the signal asks.
+# says so, and the process ends as the signal asks. While the outputs are being put in place, a
+# signal waits until all of them are, so that it leaves every output of one run.
 _SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+# The signals received while they are held (None while they are not).
+_held = None
 
 
 class _Stopped(KeyboardInterrupt):
@@ -175,43 +162,67 @@ class _Stopped(KeyboardInterrupt):
 
 
 def _stop(signum, frame):
+    if _held is not None:
+        _held.append(signum)
+        return
     # One clean-up: a second signal must not interrupt the first one's.
     for other in _SIGNALS:
         signal.signal(other, signal.SIG_IGN)
     raise _Stopped(signum)
 
 
+@contextlib.contextmanager
+def _signals_held():
+    """Holds the termination signals until the block ends, then stops by the first one received."""
+    global _held
+    _held = []
+    try:
+        yield
+    finally:
+        received, _held = _held, None
+        if received:
+            _stop(received[0], None)
+
+
 def main(argv=None):
     start = time.perf_counter()
     arguments = _parser().parse_args(argv)
     outputs = [arguments.output] + ([arguments.removed_mask] if arguments.removed_mask is not None else [])
+    files = [arguments.stats] if arguments.stats is not None else []
     handlers = {signum: signal.signal(signum, _stop) for signum in _SIGNALS}
-    before = [_identity(path) for path in outputs]
+    before = [_identity(path) for path in outputs + files]
+    staged = None
     try:
-        check_paths(arguments.input, outputs, [arguments.stats] if arguments.stats is not None else [])
-        stored = open_input(arguments.input)
-        missing = stored.nchunks - stored_chunks(arguments.input, stored)
-        if missing:
-            print(f"{TOOL}: note: {missing} of the {stored.nchunks} chunks of {arguments.input!r} are not stored; "
-                  f"Zarr reads them as the fill value {stored.fill_value}", file=sys.stderr)
-        with _scheduler(arguments.scheduler) as client:
-            begin = time.perf_counter()
-            stats = remove_small_components_zarr(
-                arguments.input, arguments.output, arguments.isovalue, arguments.max_size, arguments.side,
-                arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
-                progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
-            seconds = time.perf_counter() - begin
-        info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
-                "missing_chunks": missing,
-                "task_chunks": [extents[0] for extents in normalize_chunks(
-                    stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
-        if arguments.stats is not None:
-            _write_json_atomically(arguments.stats,
-                                   _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start))
+        try:
+            check_paths(arguments.input, outputs, files)
+            stored = open_input(arguments.input)
+            missing = stored.nchunks - stored_chunks(arguments.input, stored)
+            if missing:
+                print(f"{TOOL}: note: {missing} of the {stored.nchunks} chunks of {arguments.input!r} are not "
+                      f"stored; Zarr reads them as the fill value {stored.fill_value}", file=sys.stderr)
+            with _scheduler(arguments.scheduler) as client:
+                begin = time.perf_counter()
+                stats, staged = filter_into_staging(
+                    arguments.input, arguments.output, arguments.isovalue, arguments.max_size, arguments.side,
+                    arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
+                    progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
+                seconds = time.perf_counter() - begin
+            info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
+                    "missing_chunks": missing,
+                    "task_chunks": [extents[0] for extents in normalize_chunks(
+                        stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
+            if arguments.stats is not None:
+                document = _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start)
+                staged.stage_file(arguments.stats, _json_text(document) + "\n")
+            with _signals_held():
+                staged.commit()
+        finally:
+            if staged is not None:
+                staged.discard()
         if not arguments.quiet:
             print(_summary(arguments, stats, seconds))
     except KeyboardInterrupt as stop:
-        written = [path for path, identity in zip(outputs, before) if _identity(path) != identity]
+        written = [path for path, identity in zip(outputs + files, before) if _identity(path) != identity]
         _end_by_signal(getattr(stop, "signum", signal.SIGINT), written)
     except (TypeError, ValueError) as error:
         print(f"{TOOL}: error: {error}", file=sys.stderr)
@@ -236,9 +247,13 @@ def _identity(path):
 
 
 def _end_by_signal(signum, written):
-    """Says what the signal left, then ends the process as the signal asks (as the command-line
-    tool does), so that a shell sees which signal ended it."""
-    left = f"{' and '.join(map(repr, written))} written before it" if written else "nothing was written"
+    """Says what the signal left (every output, or none of them), then ends the process as the
+    signal asks (as the command-line tool does), so that a shell sees which signal ended it."""
+    names = list(map(repr, written))
+    if len(names) > 1:
+        left = f"{', '.join(names[:-1])} and {names[-1]} all written before it"
+    else:
+        left = f"{names[0]} written before it" if names else "nothing was written"
     print(f"{TOOL}: stopped by {signal.Signals(signum).name}; {left}", file=sys.stderr, flush=True)
     sys.stdout.flush()
     signal.signal(signum, signal.SIG_DFL)

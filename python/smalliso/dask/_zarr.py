@@ -1,6 +1,7 @@
 """Zarr in, Zarr out: a Zarr array filtered chunk by chunk into a new one, which appears only when
 it is complete."""
 
+import contextlib
 import itertools
 import os
 import re
@@ -41,12 +42,29 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
 
     Each task reads its chunk and halo from ``source`` itself, so a worker holds only the few
     chunks of the tasks it runs. Every output is written chunk by chunk by the tasks into a
-    temporary directory beside it and renamed into place only when all of them are complete, so a
-    failure or an interruption leaves no half-written array behind. An output path must be new or
+    temporary directory beside it, and all are renamed into place together only when all of them
+    are complete, so a failure or an interruption leaves either every output or none (the earlier
+    ones) behind, never a half-written array. An output path must be new or
     hold a Zarr array (an earlier output, which is replaced); it must neither hold nor lie inside
     the input or the other output. Anything else there is refused with a ValueError before any
     work, so nothing but an earlier Zarr array is ever replaced.
     """
+    statistics, staged = filter_into_staging(
+        source, target, isovalue, max_size, side, fully_connected, max_volume=max_volume, spacing=spacing,
+        removed_mask=removed_mask, client=client, progress=progress, threads=threads, chunks=chunks)
+    try:
+        staged.commit()
+    finally:
+        staged.discard()
+    return statistics
+
+
+def filter_into_staging(source, target, isovalue, max_size=20, side="both", fully_connected=False, *,
+                        max_volume=None, spacing=None, removed_mask=None, client=None, progress=False, threads=1,
+                        chunks=None):
+    """``remove_small_components_zarr`` up to the commit: the statistics and the outputs staged
+    beside their paths (a ``StagedOutputs``), which the caller commits or discards. Nothing is
+    left staged if it fails."""
     source = os.fspath(source)
     # Normalized, so that the path renamed into place is the one checked ("out.zarr/." is out.zarr,
     # and a link's "link/." the link).
@@ -62,15 +80,14 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
             raise ValueError(f"the tasks' chunks {parts[0].chunksize} must be whole multiples of the stored chunks "
                              f"{stored.chunks}, so that no two tasks write one stored chunk")
     arrays, stats = parts[:-1], parts[-1]
-    staged = []
+    staged = StagedOutputs(source)
     targets = []
     try:
         for index, (path, array) in enumerate(zip(outputs, arrays)):
-            staged.append(tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
-                                           dir=os.path.dirname(os.path.abspath(path))))
+            staging = staged.stage_directory(path)
             # The filtered image is stored as the input is; the mask with Zarr's defaults.
             options = {"compressor": stored.compressor, "filters": stored.filters} if index == 0 else {}
-            written = zarr.open_array(staged[-1], mode="w", shape=array.shape, chunks=stored.chunks,
+            written = zarr.open_array(staging, mode="w", shape=array.shape, chunks=stored.chunks,
                                       dtype=array.dtype, **options)
             if index == 0:
                 written.attrs.update(stored.attrs.asdict())
@@ -79,15 +96,12 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
         with dask.config.set({"optimization.fuse.active": False}):
             stores = da.store(list(arrays), targets, lock=False, compute=False)
             statistics = _compute(stores, stats, client, progress)
-        for staging, path in zip(staged, outputs):
-            _replace(staging, path, source)
     except BaseException:
         for written in targets:
             written.close()
-        for staging in staged:
-            shutil.rmtree(staging, ignore_errors=True)
+        staged.discard()
         raise
-    return statistics
+    return statistics, staged
 
 
 def open_input(source):
@@ -324,15 +338,83 @@ def _compute(stores, stats, client, progress):
     return dask.compute(stores, stats)[1]
 
 
-def _replace(staging, path, source):
-    """Renames the complete ``staging`` directory to ``path``, moving an earlier output there aside
-    first (checked again: it must still be a Zarr array and nothing else)."""
-    check_paths(source, [path])
-    if not os.path.lexists(path):
-        os.rename(staging, path)
-        return
-    old = tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.", suffix=".old", dir=os.path.dirname(staging))
-    os.rmdir(old)
-    os.rename(path, old)
-    os.rename(staging, path)
-    shutil.rmtree(old)
+class StagedOutputs:
+    """Outputs written beside their paths (same file system, so that each is put in place by a
+    rename), which ``commit`` puts in place together: every path is checked first, and an earlier
+    output is moved aside and removed only once every new one is in place, so that a failure (or
+    an interruption) in between puts the earlier ones back. ``discard`` removes what is still
+    staged."""
+
+    def __init__(self, source):
+        self.source = source
+        self._staged = []
+
+    def stage_directory(self, path):
+        """A new directory beside ``path`` to write its output into."""
+        staging = tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
+                                   dir=os.path.dirname(os.path.abspath(path)))
+        self._staged.append((staging, path))
+        return staging
+
+    def stage_file(self, path, text):
+        """Writes ``text`` into a new file beside ``path`` (with the permissions a new file gets)."""
+        handle, staging = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
+                                           dir=os.path.dirname(os.path.abspath(path)))
+        self._staged.append((staging, path))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(staging, 0o666 & ~umask)
+        with os.fdopen(handle, "w") as stream:
+            stream.write(text)
+
+    def commit(self):
+        """Renames every staged output to its path, replacing the earlier outputs there (checked
+        again: each must still be a Zarr array and nothing else, or a regular file)."""
+        for staging, path in self._staged:
+            if os.path.isdir(staging):
+                check_paths(self.source, [path])
+            else:
+                check_paths(self.source, [], [path])
+        moved = []
+        try:
+            for staging, path in self._staged:
+                old = None
+                if os.path.lexists(path):
+                    old = _free_name(path, ".old")
+                    os.rename(path, old)
+                moved.append([staging, path, old, False])
+                os.rename(staging, path)
+                moved[-1][3] = True
+        except BaseException:
+            for staging, path, old, placed in reversed(moved):
+                with contextlib.suppress(OSError):
+                    if placed:
+                        os.rename(path, staging)
+                    if old is not None:
+                        os.rename(old, path)
+            raise
+        self._staged = []
+        for _, _, old, _ in moved:
+            if old is not None:
+                _remove(old)
+
+    def discard(self):
+        for staging, _ in self._staged:
+            _remove(staging)
+        self._staged = []
+
+
+def _free_name(path, suffix):
+    """A new hidden name beside ``path``, free to rename something to."""
+    name = tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.", suffix=suffix,
+                            dir=os.path.dirname(os.path.abspath(path)))
+    os.rmdir(name)
+    return name
+
+
+def _remove(path):
+    if os.path.isdir(path) and not os.path.islink(path):
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(path)
