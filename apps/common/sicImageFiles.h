@@ -18,6 +18,7 @@
 #ifndef sicImageFiles_h
 #define sicImageFiles_h
 
+#include "sicImageFileParts.h"
 #include "sicStagedOutputs.h"
 #include "sicToolError.h"
 
@@ -113,7 +114,11 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   }
   catch (const itk::ExceptionObject & error)
   {
-    throw ToolError("cannot read " + what + " '" + path + "': " + ItkErrorText(error.GetDescription()));
+    // A PNG file's header and chunks were checked before: what fails now is its image data.
+    const bool png = StartsWithPngSignature(path);
+    throw ToolError("cannot read " + what + " '" + path +
+                    "': " + (png ? "its image data (IDAT) do not decode to the image its header describes (" : "") +
+                    ItkErrorText(error.GetDescription()) + (png ? "); expected a complete, intact PNG file" : ""));
   }
   messages.Replay();
   typename TImage::Pointer image = reader->GetOutput();

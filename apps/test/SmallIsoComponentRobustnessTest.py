@@ -327,9 +327,10 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
             ("crc.png", good[:-5] + bytes([good[-5] ^ 1]) + good[-4:], "CRC"),
         ]
         # Inflating to too few bytes is found by ITK's reader of the voxels, which recovers: one line without the
-        # reader's address.
+        # reader's address, that says what was wrong.
         short_data = png_chunk(b"IDAT", zlib.compress(rows[:100]))
-        itk_cases = [("inflate.png", png_file(chunks=[short_data, end]), "Error while reading")]
+        itk_cases = [("inflate.png", png_file(chunks=[short_data, end]),
+                      "its image data (IDAT) do not decode to the image its header describes")]
         for name, data, words in cases + itk_cases:
             with self.subTest(input=name):
                 with open(self.path(name), "wb") as file:
