@@ -52,6 +52,19 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
                        stem + "-mask" + extension, "--stats", stem + ".json", "--quiet", *options))
         return load_json(stem + ".json")
 
+    @staticmethod
+    def write_line(path, planes):
+        """A uint8 NRRD of 512 x 512 x planes voxels of 0 and a line of 200 through all planes: a component of one
+        voxel per plane, open to the last plane."""
+        plane = bytearray(512 * 512)
+        plane[256 * 512 + 256] = 200
+        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 512 512 %d\nendian: little\nencoding: raw\n\n"
+        # Plane by plane: a measured child's peak counts the test's own size when that is larger.
+        with open(path, "wb") as file:
+            file.write((header % planes).encode())
+            for _ in range(planes):
+                file.write(plane)
+
     def assertSameImages(self, a, b):
         result = run(PROBE, "equal", a, b)
         self.assertEqual(result.returncode, 0, a + " and " + b + ": " + result.stdout + result.stderr)
@@ -199,14 +212,7 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         last plane, so the window holds every plane: a limit between the shallowest window and the bound is
         tried, and the run stops when it passes the limit, saying so in one line and leaving no output."""
         self.skip_unless_memory_is_measurable()
-        plane = bytearray(512 * 512)
-        plane[256 * 512 + 256] = 200
-        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 512 512 96\nendian: little\nencoding: raw\n\n"
-        # Plane by plane: a measured child's peak counts the test's own size when that is larger.
-        with open(self.path("line.nrrd"), "wb") as file:
-            file.write(header.encode())
-            for _ in range(96):
-                file.write(plane)
+        self.write_line(self.path("line.nrrd"), 96)
         output = self.path("out.nrrd")
         arguments = [FILTER, self.path("line.nrrd"), output, "--isovalue", "128", "--max-size", "1000", "--quiet",
                      "--removed-mask", self.path("mask.nrrd"), "--memory-limit"]
@@ -453,13 +459,7 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         """Streaming by itself, the tool watches the three quarters of the available memory it chose, and
         says that it chose them when a run passes them."""
         self.skip_unless_memory_is_measurable()
-        plane = bytearray(512 * 512)
-        plane[256 * 512 + 256] = 200
-        header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 512 512 512\nendian: little\nencoding: raw\n\n"
-        with open(self.path("line.nrrd"), "wb") as file:
-            file.write(header.encode())
-            for _ in range(512):
-                file.write(plane)
+        self.write_line(self.path("line.nrrd"), 512)
         output = self.path("out.nrrd")
         with self.memory_control_group(96 << 20) as inside:
             result = run(*inside, FILTER, self.path("line.nrrd"), output, "--isovalue", "128", "--max-size", "1000",
