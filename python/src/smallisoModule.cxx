@@ -28,6 +28,9 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#if defined(__GLIBC__)
+#  include <malloc.h>
+#endif
 
 namespace
 {
@@ -195,6 +198,18 @@ PYBIND11_MODULE(_core, module)
              &SummaryStatistics,
              "The statistics of the components a summary settled.",
              py::arg("summary"));
+  module.def(
+    "keep_freed_memory",
+    [] {
+#if defined(__GLIBC__)
+      // A process that runs one task after another reuses the blocks its last task freed instead
+      // of giving them back to the system and faulting fresh pages in for the next task.
+      constexpr int largestReusedBlock = 1 << 30;
+      mallopt(M_MMAP_THRESHOLD, largestReusedBlock);
+      mallopt(M_TRIM_THRESHOLD, largestReusedBlock);
+#endif
+    },
+    "Keeps the memory this process frees for its next allocations (glibc) instead of returning it to the system.");
   module.def(
     "box_halo",
     [](uint64_t maxSize, const std::string & side) {

@@ -39,6 +39,12 @@ def check_on_cluster(client, seed, dtype, side):
     assert stats == without_memory(expected_stats)
 
 
+def test_the_workers_count_as_processes_that_only_run_tasks(client):
+    # Where the tasks keep the memory they free for the next (the user's process is not one).
+    assert set(client.run(smalliso.dask._graph._in_distributed_worker).values()) == {True}
+    assert not smalliso.dask._graph._in_distributed_worker()
+
+
 def test_a_zarr_array_through_the_client(client, tmp_path):
     volume, isovalue = random_volume(np.random.default_rng(9), "float64", (12, 13, 11))
     zarr.save_array(str(tmp_path / "in.zarr"), volume, chunks=(4, 5, 6))

@@ -186,6 +186,8 @@ def _signals_held():
 
 def main(argv=None):
     start = time.perf_counter()
+    # The command's process only runs the filter: its tasks may keep what they free for the next.
+    smalliso._core.keep_freed_memory()
     arguments = _parser().parse_args(argv)
     outputs = [arguments.output] + ([arguments.removed_mask] if arguments.removed_mask is not None else [])
     files = [arguments.stats] if arguments.stats is not None else []
