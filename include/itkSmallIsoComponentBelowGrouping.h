@@ -107,10 +107,6 @@ private:
   /** JoinNeighborsOf<true>() compiled for a processor with a bit-count instruction. */
   void
   JoinNeighborsByBitsWithPopcount(const LineRun * first, const LineRun * last);
-  ComponentIndexType
-  Find(ComponentIndexType component);
-  void
-  Join(ComponentIndexType a, ComponentIndexType b);
 
   const RunLabeling *                                m_Labeling{ nullptr };
   std::unique_ptr<std::atomic<ComponentIndexType>[]> m_Parent;

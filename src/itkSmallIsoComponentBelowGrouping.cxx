@@ -18,6 +18,7 @@
 #include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
+#include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
 
 namespace itk
@@ -69,48 +70,6 @@ BelowGrouping::GetScratchBytes() const
   return m_Capacity * sizeof(std::atomic<ComponentIndexType>);
 }
 
-inline auto
-BelowGrouping::Find(ComponentIndexType component) -> ComponentIndexType
-{
-  while (true)
-  {
-    const ComponentIndexType parent = m_Parent[component].load(std::memory_order_relaxed);
-    if (parent == component)
-    {
-      return component;
-    }
-    const ComponentIndexType grandparent = m_Parent[parent].load(std::memory_order_relaxed);
-    if (grandparent != parent)
-    {
-      m_Parent[component].store(grandparent, std::memory_order_relaxed);
-    }
-    component = grandparent;
-  }
-}
-
-inline void
-BelowGrouping::Join(ComponentIndexType a, ComponentIndexType b)
-{
-  while (true)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a == b)
-    {
-      return;
-    }
-    if (a < b)
-    {
-      std::swap(a, b);
-    }
-    ComponentIndexType expected = a;
-    if (m_Parent[a].compare_exchange_weak(expected, b, std::memory_order_relaxed))
-    {
-      return;
-    }
-  }
-}
-
 template <bool VByBits>
 SMALLISO_ALWAYS_INLINE void
 BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
@@ -136,7 +95,7 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
     {
       lastFlipped = flipped;
       lastBelow = below;
-      this->Join(flipped, below);
+      JoinShared(m_Parent.get(), flipped, below);
     }
   };
   const SizeValueType lines = m_Labeling->GetNumberOfLines();
@@ -319,7 +278,7 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
   const SizeValueType numberOfComponents = m_Labeling->GetNumberOfComponents();
   groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
   groups.GroupSize.clear();
-  // No Find() is needed: a component's parent is a member of its group with a smaller
+  // No FindRootShared() is needed: a component's parent is a member of its group with a smaller
   // index (roots are the smallest member, and a root is only ever linked under a smaller
   // one), so the parent's group is known by the time the component is reached.
   for (SizeValueType c = 0; c < numberOfComponents; ++c)

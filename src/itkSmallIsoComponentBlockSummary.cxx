@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkSmallIsoComponentBlockSummary.h"
 #include "itkMacro.h"
+#include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -114,19 +115,6 @@ Concatenate(std::vector<T> a, const std::vector<T> & b)
 {
   a.insert(a.end(), b.begin(), b.end());
   return a;
-}
-
-/** Union-find over nodes: path halving, the smaller root under... any root (the result never
- * depends on which root a group gets). */
-NodeType
-Find(std::vector<NodeType> & parent, NodeType node)
-{
-  while (parent[node] != node)
-  {
-    parent[node] = parent[parent[node]];
-    node = parent[node];
-  }
-  return node;
 }
 } // namespace
 
@@ -305,7 +293,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
   const auto            findRoots = [&]() {
     for (NodeType node = 0; node < nodes; ++node)
     {
-      root[node] = Find(parent, node);
+      root[node] = FindRoot(parent.data(), node);
     }
   };
   const auto markOpen = [&](std::vector<uint8_t> & open) {
@@ -360,15 +348,8 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
 
   // A removed above component joins the below components it touches.
   const auto join = [&](NodeType a, NodeType b) {
-    a = Find(parent, a);
-    b = Find(parent, b);
-    if (a != b)
+    if (JoinRoots(parent.data(), a, b))
     {
-      if (b < a)
-      {
-        std::swap(a, b);
-      }
-      parent[b] = a;
       m_Size[a] += m_Size[b];
       m_Flipped[a] += m_Flipped[b];
     }
@@ -378,7 +359,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
     std::vector<std::pair<NodeType, NodeType>> joins;
     for (const auto & pair : touching)
     {
-      const NodeType above = Find(parent, pair.first);
+      const NodeType above = FindRoot(parent.data(), pair.first);
       if (aboveState[above] == State::Removed)
       {
         joins.emplace_back(above, pair.second);
@@ -399,10 +380,10 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
   std::vector<uint8_t> blocked(nodes, 0);
   for (const auto & pair : touching)
   {
-    const NodeType above = Find(parent, pair.first);
+    const NodeType above = FindRoot(parent.data(), pair.first);
     if (m_Above[above] && aboveState[above] == State::Open)
     {
-      blocked[Find(parent, pair.second)] = 1;
+      blocked[FindRoot(parent.data(), pair.second)] = 1;
     }
   }
   std::vector<State> belowState(nodes, State::Open);
@@ -454,7 +435,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
   }
   for (NodeType node = 0; node < nodes; ++node)
   {
-    root[node] = newNode[Find(parent, node)];
+    root[node] = newNode[FindRoot(parent.data(), node)];
   }
   // The faces in the new numbering; runs of one component that are now side by side are one.
   for (auto & layer : m_Face)
@@ -485,10 +466,10 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
   std::vector<std::pair<NodeType, NodeType>> keptTouching;
   for (const auto & pair : touching)
   {
-    const NodeType a = Find(parent, pair.first);
+    const NodeType a = FindRoot(parent.data(), pair.first);
     if (m_Above[a] && aboveState[a] == State::Open)
     {
-      keptTouching.emplace_back(newNode[a], newNode[Find(parent, pair.second)]);
+      keptTouching.emplace_back(newNode[a], newNode[FindRoot(parent.data(), pair.second)]);
     }
   }
   std::sort(keptTouching.begin(), keptTouching.end());
@@ -499,7 +480,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
     resolutions->resize(nodes);
     for (NodeType node = 0; node < nodes; ++node)
     {
-      const NodeType root = Find(parent, node);
+      const NodeType root = FindRoot(parent.data(), node);
       Resolution &   resolution = (*resolutions)[node];
       if (wasAbove[node])
       {
@@ -673,15 +654,10 @@ BlockSummary::Merge(const BlockSummary &      lower,
     lastB = b;
     if (merged.m_Above[a] == merged.m_Above[b])
     {
-      NodeType ra = Find(parent, a);
-      NodeType rb = Find(parent, b);
-      if (ra != rb)
+      NodeType ra = a;
+      NodeType rb = b;
+      if (JoinRoots(parent.data(), ra, rb))
       {
-        if (rb < ra)
-        {
-          std::swap(ra, rb);
-        }
-        parent[rb] = ra;
         merged.m_Size[ra] += merged.m_Size[rb];
         merged.m_Flipped[ra] += merged.m_Flipped[rb];
       }

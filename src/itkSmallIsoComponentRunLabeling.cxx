@@ -20,6 +20,7 @@
 #include "itkNumericTraits.h"
 #include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
+#include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
 #include <atomic>
 #include <functional>
@@ -170,35 +171,7 @@ RunLabeling::AssembleRuns(WorkTeam & team)
 SMALLISO_ALWAYS_INLINE void
 RunLabeling::Union(RunIndexType a, RunIndexType b)
 {
-  // Rem's algorithm with splicing: walk both paths towards the roots, always advancing
-  // the one with the larger parent and re-pointing it to the smaller parent on the way.
-  // Parents only ever decrease, so every parent stays at or below its run.
-  RunIndexType * parent = m_RunLabel.data();
-  while (parent[a] != parent[b])
-  {
-    if (parent[a] > parent[b])
-    {
-      if (parent[a] == a)
-      {
-        parent[a] = parent[b];
-        return;
-      }
-      const RunIndexType next = parent[a];
-      parent[a] = parent[b];
-      a = next;
-    }
-    else
-    {
-      if (parent[b] == b)
-      {
-        parent[b] = parent[a];
-        return;
-      }
-      const RunIndexType next = parent[b];
-      parent[b] = parent[a];
-      b = next;
-    }
-  }
+  Join(m_RunLabel.data(), a, b);
 }
 
 SMALLISO_ALWAYS_INLINE void

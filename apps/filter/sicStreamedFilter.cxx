@@ -23,6 +23,7 @@
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentStreamingSweep.h"
 #include "itkSmallIsoComponentThreshold.h"
+#include "itkSmallIsoComponentUnionFind.h"
 
 #include <algorithm>
 #include <chrono>
@@ -257,21 +258,11 @@ struct LineRun
   bool          Above;
 };
 
-/** The union-find of a plane's runs: each run's parent, and the voxels of the runs below each root. */
+/** The groups of a plane's runs: each run's parent, and the voxels of the runs below each root. */
 struct PlaneComponents
 {
   std::vector<std::uint64_t> Parent;
   std::vector<std::uint64_t> Voxels;
-
-  std::uint64_t
-  Root(std::uint64_t run)
-  {
-    while (Parent[run] != run)
-    {
-      run = Parent[run] = Parent[Parent[run]];
-    }
-    return run;
-  }
 };
 
 /** The bytes a plane's labelling takes: its runs; its components of runs (runs of a side joined across
@@ -313,12 +304,11 @@ PlaneLabelBytes(const std::vector<TPixel> &                             plane,
       }
       for (std::size_t p = first; p < previous.size() && previous[p].Begin < run.End + reach; ++p)
       {
-        const std::uint64_t a = components.Root(previous[p].Index);
-        const std::uint64_t b = components.Root(run.Index);
-        if (previous[p].Above == run.Above && a != b)
+        std::uint64_t a = previous[p].Index;
+        std::uint64_t b = run.Index;
+        if (previous[p].Above == run.Above && itk::SmallIsoComponentDetail::JoinRoots(components.Parent.data(), a, b))
         {
-          components.Parent[a] = b;
-          components.Voxels[b] += components.Voxels[a];
+          components.Voxels[a] += components.Voxels[b];
         }
       }
     }
