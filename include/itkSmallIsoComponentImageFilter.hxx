@@ -450,8 +450,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     m_PhaseClock.End(PhaseEnum::Seams);
     // A fill long beside the numbering is better written beside a serial numbering, which
     // leaves every other work unit free for it, than in the moments a shared one leaves
-    // (bonsai, 32 MiB to write beside 0.9 ms of serial numbering: 0.93 against 1.41 ms at
-    // two work units).
+    // (see docs/performance.md).
     // With Side Both, the memory of the groups' component table and of the removed runs,
     // taken later anyway, serves first as the scratch of a shared numbering's help: the
     // partial sizes and the candidates of the lines its first stage sums.

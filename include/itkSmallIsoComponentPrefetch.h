@@ -46,8 +46,7 @@ Prefetch(const void * address)
 
 /** From how many runs in all the loops over removed or flipped runs request what a run
  * reads: below it the run arrays (8 bytes a run) fit the second-level cache, and the
- * requests only cost (lobster, 94,318 runs: its repair took 1.56 ms with them, 1.11
- * without). */
+ * requests only cost (see docs/performance.md, "Prefetches"). */
 constexpr SizeValueType PrefetchMinimumRuns = SizeValueType{ 1 } << 20;
 
 /** How many runs ahead a loop over removed or flipped runs requests what a run reads. */

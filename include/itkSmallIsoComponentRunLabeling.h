@@ -67,9 +67,7 @@ namespace SmallIsoComponentDetail
  * labelling an image like the last one takes no fresh memory; ReleaseMemory() gives it
  * back. The object is on cache lines of its own: while one work unit numbers the
  * components, which writes the ends of the component arrays all along, others work
- * beside it, and on a cache line it shared with their data both would wait on each other
- * (numbering at two work units took 64 ms instead of 50 on random-384-u8 with the
- * labelling in one block with the passes' arrays).
+ * beside it, and on a cache line it shared with their data both would wait on each other.
  *
  * \ingroup SmallIsoComponent
  */
@@ -212,10 +210,9 @@ public:
                   std::vector<ComponentIndexType> * partialSizes = nullptr,
                   std::vector<LineRun> *            partialCandidates = nullptr);
 
-  /** Below this many runs the numbering is not shared. It then takes a millisecond or two;
-   * sharing it was measured to pay on a dense random volume (28 million runs: 49 against
-   * 37 ms), and to lose on the benchmark's real volumes, whose serial numbering takes about
-   * a millisecond, with the output written beside it. */
+  /** Below this many runs the numbering is not shared: sharing pays on volumes with many
+   * short runs, and loses on real volumes, whose short serial numbering leaves the other
+   * work units free to write the output beside it (see docs/performance.md). */
   static constexpr SizeValueType MinimumRunsToShareNumbering = SizeValueType{ 1 } << 20;
   /** Sets the runs from which the numbering is shared (for the tests: any number gives
    * the same result). */
