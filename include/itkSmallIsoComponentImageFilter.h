@@ -36,86 +36,31 @@ namespace itk
  * \brief Removes the components of at most K voxels on either side of an isovalue, so that
  * an isosurface extracted afterwards has no specks or bubbles.
  *
- * Every voxel is \e above the isovalue σ (f >= σ) or \e below it (f < σ, NaN included):
- * the test Marching Cubes uses, so the isosurface separates exactly these two sets.
- * The filter finds the connected components of both sets (face connectivity by default,
- * 2·N neighbours; FullyConnected gives 3^N - 1) and \e removes the small ones: those with
- * at most MaximumComponentSize (K) voxels. Removing a component changes only its own
- * voxels, each to a value on the other side of σ; every other voxel keeps its value bit
- * for bit.
+ * Every voxel is \e above the isovalue σ (f >= σ) or \e below it (f < σ, NaN included), the
+ * test Marching Cubes uses. The filter finds the connected components of both sets (face
+ * connectivity, 2·N neighbours, by default; FullyConnectedOn() gives 3^N - 1) and removes the
+ * small ones, those of at most K voxels: each of their voxels gets a value on the other side
+ * of σ, the mean of the first other-side values met along the 2·N axis directions. Every other
+ * voxel keeps its value bit for bit. The input is first converted to the output pixel type
+ * (static_cast, as CastImageFilter does), and the guarantees hold for the converted values.
  *
- * The new value of a removed voxel v is the mean of the first other-side values met when
- * walking from v along each of the 2·N axis directions. A walk that leaves the image
- * finds nothing; a walk from an above voxel that stops on a NaN finds nothing either
- * (NaN is below σ but never a repair value). Walks read the values from before the
- * current pass and cross only voxels of v's own component. The mean is taken in double
- * precision, and cannot overflow: when the sum of values near the limits of double
- * overflows, the mean is that of the values divided by 16, times 16. For integer output pixels it is rounded half up
- * (itk::Math::Round), which cannot move it back across σ because the values it averages are all integers on one side. A
- * voxel whose walks all find nothing (only possible when its component spans the image along every axis through it)
- * gets the representable value on the other side closest to σ and is counted in GetNumberOfUnrepairableVoxels(). If the
- * output type has no value on the other side at all (for example σ <= 0 for unsigned char, which puts every voxel
- * above), the component cannot be removed: it is kept and its voxels are counted as unrepairable.
+ * Parameters: IsoValue σ; MaximumComponentSize K (default 20) or MaximumComponentVolume in the
+ * spacing's units cubed, whichever was set last; Side: Above removes specks, Below bubbles, Both
+ * (the default) Above and then Below on its result; FullyConnected; GenerateRemovedMask;
+ * InPlace (off by default; input and output of one type).
  *
- * Side selects the pass: Above removes small above components (specks outside a dense
- * object), Below removes small below components (bubbles inside it), Both runs Above and
- * then Below on the result of the first pass. After Both no component of either side
- * has at most K voxels, except unrepairable ones. Removing a speck can join a bubble
- * inside it to the outside; such a bubble is then no longer small and stays.
+ * Outputs: output 0 is the filtered image, with the input's geometry. Output 1,
+ * GetRemovedMask(), is filled only with GenerateRemovedMaskOn(): 0 kept, 1 removed by the above
+ * pass, 2 removed by the below pass. Statistics of the last Update(): for each side the number of
+ * components, of removed components and of their voxels, and the component-size histogram (the
+ * below side's describe the image the below pass saw); the voxels modified; the voxels that could
+ * not be repaired (their walks all found nothing, or the output type has no value on the other
+ * side, in which case the component is kept); GetPeakExtraMemoryInBytes(), GetPhaseSeconds().
  *
- * The input is first converted to the output pixel type (static_cast, as
- * CastImageFilter does) and everything above is applied to the converted values, so the
- * guarantees hold for the image the user gets.
- *
- * The threshold can also be given as a physical volume, MaximumComponentVolume, in the
- * image's units cubed (mm³ for medical images): a component is small when its voxel count
- * times the volume of one voxel (the product of the spacing) is at most that volume, so
- * K = floor(volume / voxel volume), with a relative tolerance of 1e-12 so that a volume of
- * exactly k voxels gives K = k despite floating-point rounding. Whichever of MaximumComponentSize and
- * MaximumComponentVolume was set last is used; GetEffectiveMaximumComponentSize() tells
- * the K of the last Update().
- *
- * Outputs: output 0 is the filtered image (spacing, origin and direction unchanged);
- * output 1, GetRemovedMask(), marks each voxel 0 (kept), 1 (removed in the above pass)
- * or 2 (removed in the below pass, including voxels the above pass had already moved).
- * The mask is a second full-size image, so it is made only when asked for:
- * GenerateRemovedMaskOn() (off by default, as FastMarchingImageFilter's gradient image).
- * Otherwise output 1 keeps the image's geometry and has an empty buffered region.
- *
- * Statistics, valid after Update(): the number of components of each side, how many of
- * them were removed and how many voxels they had, the component-size histogram of each
- * side (so the removal counts for every K follow from one run), the number of modified
- * voxels (voxels the filter wrote, the nonzero voxels of the mask), and the number of
- * unrepairable voxels (counted per pass: a voxel that gets the fallback value in both
- * passes of Both counts twice). The above side's statistics describe the input; the below side's
- * describe the image the below pass saw: the result of the above pass when Side is Both,
- * the input otherwise.
- *
- * The filter runs on its threader with the number of work units SetNumberOfWorkUnits()
- * gives; its output and statistics depend on neither that number nor the threads'.
- *
- * Memory beyond input, output and (when generated) mask: 8 bytes per scanline run (a run is a maximal
- * piece of a line on one side of σ), 9 bytes per line, about 20 bytes per component
- * while the passes are decided, 8 bytes per candidate run (every run of a component of
- * at most K voxels), and 8 bytes per removed run plus one output pixel per removed voxel
- * (none with Side Above or Below when not in place: each value is then written as it is found);
- * with more than one work unit, one byte per candidate run while the removed runs are
- * collected; where lines have three runs or more per 64 voxels on average, the lines'
- * boundary bits too (1/8 byte per voxel). GetPeakExtraMemoryInBytes() reports the peak of
- * the last Update(). Real volumes have
- * far fewer runs than voxels; a volume whose sides alternate at every voxel has one run
- * per voxel. An image of at least 2^30 voxels is swept in slabs instead (see "Large images"
- * below): its working memory is then a window of planes, a few hundredths of a byte per voxel
- * on a deep image.
- *
- * The filter can run in place (InPlaceOn(), when input and output types are the same),
- * which saves the output buffer and the copy; it is off by default.
- *
- * The parameters, the mask output, the checks of the parameters and the component counts of
- * each side are SmallIsoComponentImageFilterBase's, which SmallIsoComponentStreamingImageFilter
- * shares; this class adds the in-memory algorithm and the statistics it keeps.
- *
- * docs/algorithm.md describes how it works and where each step is implemented.
+ * Output and statistics depend on neither the number of work units nor the threads. Working
+ * memory is mostly 8 bytes per scanline run; an image of at least 2^30 voxels is swept in slabs,
+ * with the same result. docs/algorithm.md states every rule in full (ties, NaN, rounding, the
+ * fallback value, memory) and says how the filter works and where each step is implemented.
  *
  * \sa SmallIsoComponentImageFilterBase
  * \sa SmallIsoComponentStreamingImageFilter
