@@ -157,10 +157,18 @@ public:
   void
   EncodeLineAndBits(const TPixel * values, SizeValueType length, CoordinateType * starts, uint64_t * bits) const;
 
-  /** Whether the encoder uses AVX-512: by default where the processor has it (HasAvx512()),
-   * for the classification of the voxels (64 bytes a compare) and for the starts of dense
-   * lines. Setting it on elsewhere leaves it off; off is there to compare the two ways (the
-   * output is the same). */
+  /** Whether the encoder uses AVX-512: where the processor has it (HasAvx512()), for the
+   * classification of the voxels (64 bytes a compare) and for the starts of dense lines. */
+  bool
+  GetAvx512() const
+  {
+    return m_Avx512;
+  }
+
+protected:
+  /** Turns AVX-512 off, or on again where the processor has it (elsewhere it stays off), so
+   * that the tests, through a class derived for the purpose, compare the two ways: the
+   * output is the same. */
   void
   SetAvx512(bool on)
   {
@@ -169,11 +177,6 @@ public:
 #else
     (void)on;
 #endif
-  }
-  bool
-  GetAvx512() const
-  {
-    return m_Avx512;
   }
 
 private:

@@ -214,13 +214,6 @@ public:
    * short runs, and loses on real volumes, whose short serial numbering leaves the other
    * work units free to write the output beside it (see docs/performance.md). */
   static constexpr SizeValueType MinimumRunsToShareNumbering = SizeValueType{ 1 } << 20;
-  /** Sets the runs from which the numbering is shared (for the tests: any number gives
-   * the same result). */
-  void
-  SetMinimumRunsToShareNumbering(SizeValueType runs)
-  {
-    m_MinimumRunsToShareNumbering = runs;
-  }
   SizeValueType
   GetMinimumRunsToShareNumbering() const
   {
@@ -231,12 +224,6 @@ public:
    * claims of this many lines. A claim is taken from the front (the low 32 bits of a word:
    * the next claim) or from the end (the high 32 bits: one past the last claim left). */
   static constexpr SizeValueType LinesPerClaim = 64;
-  /** Sets the lines per claim (for the tests: any number gives the same result). */
-  void
-  SetLinesPerClaim(SizeValueType lines)
-  {
-    m_LinesPerClaim = std::max(lines, SizeValueType{ 1 });
-  }
 
   SizeValueType
   GetNumberOfComponents() const
@@ -421,6 +408,17 @@ public:
   void
   ReleaseMemory();
 
+  /** Below this many runs per 64 voxels (over both lines) a merge was faster on the real
+   * volumes of the benchmark; above it, the bits. */
+  static constexpr SizeValueType BitsRunsPerWord = 6;
+  /** The most bytes of boundary bits one work unit keeps for the lines before its line. */
+  static constexpr SizeValueType BitsCacheBytes = SizeValueType{ 1 } << 20;
+
+protected:
+  /** \name Ways of working that only the tests choose
+   * Each changes how the work is done, never its result; the tests reach them through a
+   * class derived for the purpose. */
+  /** @{ */
   /** How two neighbouring lines have their runs linked. */
   enum class LineLinking : uint8_t
   {
@@ -432,21 +430,27 @@ public:
     /** By their boundary bits whenever both lines' bits can be held at once. */
     Bits
   };
-  /** Below this many runs per 64 voxels (over both lines) a merge was faster on the real
-   * volumes of the benchmark; above it, the bits. */
-  static constexpr SizeValueType BitsRunsPerWord = 6;
-  /** The most bytes of boundary bits one work unit keeps for the lines before its line. */
-  static constexpr SizeValueType BitsCacheBytes = SizeValueType{ 1 } << 20;
-
-  /** Chooses how lines are linked and how many bytes of boundary bits a work unit keeps
-   * (for the tests: every choice gives the same components), from the next Initialize()
-   * on. */
+  /** Chooses how lines are linked and how many bytes of boundary bits a work unit keeps,
+   * from the next Initialize() on. */
   void
   SetLineLinking(LineLinking linking, SizeValueType bitsCacheBytes = BitsCacheBytes)
   {
     m_LineLinking = linking;
     m_BitsCacheBytes = bitsCacheBytes;
   }
+  /** Sets the runs from which the numbering is shared. */
+  void
+  SetMinimumRunsToShareNumbering(SizeValueType runs)
+  {
+    m_MinimumRunsToShareNumbering = runs;
+  }
+  /** Sets the lines per claim of a shared numbering (at least 1). */
+  void
+  SetLinesPerClaim(SizeValueType lines)
+  {
+    m_LinesPerClaim = std::max(lines, SizeValueType{ 1 });
+  }
+  /** @} */
 
 private:
   /** The boundary bits of recent lines: one bit per voxel, set where a run starts (64

@@ -36,6 +36,16 @@ using namespace itk::SmallIsoComponentTest;
 using itk::SizeValueType;
 using RunLabeling = itk::SmallIsoComponentDetail::RunLabeling;
 
+/** The labelling with the ways of working that only the tests choose. */
+class TestRunLabeling : public RunLabeling
+{
+public:
+  using RunLabeling::LineLinking;
+  using RunLabeling::SetLineLinking;
+  using RunLabeling::SetLinesPerClaim;
+  using RunLabeling::SetMinimumRunsToShareNumbering;
+};
+
 /** Random sides: voxels above with a random density, in runs along axis 0 of random
  * length, so that lines have a few long runs or many short ones. */
 std::vector<uint8_t>
@@ -284,7 +294,7 @@ CheckRandomVolume(RandomSource &                      random,
       for (const unsigned int help : { 0u, 1u, 4u })
       {
         SCOPED_TRACE(testing::Message() << units << " units, help " << help);
-        RunLabeling shared;
+        TestRunLabeling shared;
         shared.SetMinimumRunsToShareNumbering(0);
         shared.SetLinesPerClaim(1);
         std::vector<RunLabeling::ComponentIndexType> partialSizes;
@@ -361,13 +371,13 @@ CheckRandomVolume(RandomSource &                      random,
   // line a line reaches back to, and with rings of four lines (for lines of one word) and of
   // two lines (lines written again when they fell out, pairs in one slot merged): the same
   // numbering.
-  using Linking = RunLabeling::LineLinking;
+  using Linking = TestRunLabeling::LineLinking;
   for (const auto & choice : { std::make_pair(Linking::Merge, RunLabeling::BitsCacheBytes),
                                std::make_pair(Linking::Bits, RunLabeling::BitsCacheBytes),
                                std::make_pair(Linking::Bits, SizeValueType{ 40 }),
                                std::make_pair(Linking::Bits, SizeValueType{ 1 }) })
   {
-    RunLabeling labeling;
+    TestRunLabeling labeling;
     labeling.SetLineLinking(choice.first, choice.second);
     Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, 2, candidateSize);
     ASSERT_EQ(VoxelComponents(labeling), firstNumbering) << "linking " << static_cast<int>(choice.first) << " with "
