@@ -387,6 +387,13 @@ Inflate(const fs::path & path, std::uint64_t offset, bool members, std::string &
 }
 
 std::string
+CompressedDataProblem(const std::string & data, const std::string & problem)
+{
+  const bool incomplete = problem == "is missing" || problem == "is cut short";
+  return (incomplete ? "is incomplete: " : "is corrupt: ") + data + " " + problem;
+}
+
+std::string
 ImageFileProblem(const ImageFileParts & parts)
 {
   if (parts.Format == ImageFileFormat::Png)
@@ -451,11 +458,10 @@ ImageFileProblem(const ImageFileParts & parts)
     const InflatedData inflated = Inflate(segment.File, segment.Offset, !metaImage, problem);
     if (!problem.empty())
     {
-      const bool incomplete = problem == "is cut short" || problem == "is missing";
-      return (incomplete ? "is incomplete: " : "is corrupt: ") +
-             (segment.File == parts.Files.front() ? std::string("its compressed data")
-                                                  : "the compressed data of its data file " + Quoted(segment.File)) +
-             " " + problem;
+      return CompressedDataProblem(segment.File == parts.Files.front()
+                                     ? std::string("its compressed data")
+                                     : "the compressed data of its data file " + Quoted(segment.File),
+                                   problem);
     }
     if (metaImage && !parts.DataFileSeries)
     {

@@ -60,6 +60,11 @@ struct InflatedData
 InflatedData
 Inflate(const std::filesystem::path & file, std::uint64_t offset, bool members, std::string & problem);
 
+/** The \a problem Inflate() found in \a data (e.g. "its compressed data") as a phrase to follow the file's name:
+ * "is incomplete: ..." for data that are missing or cut short, "is corrupt: ..." for data that do not decode. */
+std::string
+CompressedDataProblem(const std::string & data, const std::string & problem);
+
 /** Feeds zlib's stream with the zlib or gzip data of a file, read from where the file stands on (the file is not
  * owned), and starts the gzip members that follow one another: what Inflate() and the streaming reader share. */
 class InflateInput

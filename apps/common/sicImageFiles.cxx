@@ -124,8 +124,7 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
     Inflate(path, 0, true, problem);
     if (!problem.empty())
     {
-      refuse((problem == "is cut short" ? "is incomplete: " : "is corrupt: ") + std::string("its compressed data ") +
-             problem);
+      refuse(CompressedDataProblem("its compressed data", problem));
     }
   }
   if (!io)

@@ -297,6 +297,24 @@ class SmallIsoComponentRobustnessTest(ToolTestCase):
                                       "is corrupt: ", os.path.basename(path))
                 self.assertEqual(self.listing(), before)
 
+    def test_cut_short_small_compressed_input_is_incomplete(self):
+        # Small enough that its header is read through the whole stream: compressed data that end early, or that
+        # are not there at all, are incomplete, not corrupt.
+        small_nifti = self.path("small.nii")
+        write_nifti(small_nifti, [4] * 3, noise(2 * 4 ** 3))
+        with open(small_nifti, "rb") as source:
+            whole = gzip.compress(source.read())
+        for name, length in (("half.nii.gz", len(whole) // 2), ("empty.nii.gz", 0)):
+            with self.subTest(input=name):
+                with open(self.path(name), "wb") as file:
+                    file.write(whole[:length])
+                before = self.listing()
+                self.assertUsageError(run(FILTER, self.path(name), self.path("o.nrrd"), "--isovalue", "0", "--quiet"),
+                                      name, "is incomplete: its compressed data")
+                self.assertUsageError(run(REPORT, self.path(name), "--isovalue", "0", "--no-surfaces"), name,
+                                      "is incomplete: its compressed data")
+                self.assertEqual(self.listing(), before)
+
     def test_corrupt_png_inputs_are_refused(self):
         # libpng gives up on these while ITK reads the header, and ITK (5.2) cannot recover from it there: each is
         # refused before ITK reads it, whatever the file's name.
