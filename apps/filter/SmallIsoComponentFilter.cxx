@@ -613,27 +613,38 @@ PlanStreaming(const sic::FilterSettings & settings,
   const std::uint64_t labelBytes =
     sic::MostLabelBytesInAPlane(settings.Input, settings.IsoValue, settings.FullyConnected, maximumSize);
   const unsigned int workUnits = sic::StreamingWorkUnits(settings);
-  StreamingPlan      plan;
+  // The working memory and the thickest slab within a budget, for a window that holds components of \a size voxels.
+  const auto workingBytes = [&](std::uint64_t size, std::uint64_t slabPlanes) {
+    return sic::StreamingWorkingBytes(geometry, labelBytes, size, slabPlanes, workUnits);
+  };
+  const auto thickestSlab = [&](std::uint64_t size, std::uint64_t budget) {
+    return sic::SlabPlanesForBudget(geometry, labelBytes, size, budget, workUnits);
+  };
+
+  StreamingPlan plan;
   plan.ProcessBytes = sic::StreamingProcessBytes();
-  plan.BoundBytes = plan.ProcessBytes + sic::StreamingWorkingBytes(geometry, labelBytes, maximumSize, 1, workUnits);
+  const std::uint64_t boundWindow = workingBytes(maximumSize, 1);
+  const std::uint64_t shallowestWindow = workingBytes(0, 1);
   const std::uint64_t budget = limit > plan.ProcessBytes ? limit - plan.ProcessBytes : 0;
-  plan.SlabPlanes = sic::SlabPlanesForBudget(geometry, labelBytes, maximumSize, budget, workUnits);
-  const std::uint64_t leastWindow = sic::StreamingWorkingBytes(geometry, labelBytes, 0, 1, workUnits);
-  if (plan.SlabPlanes == 0 && leastWindow <= budget)
+  plan.BoundBytes = plan.ProcessBytes + boundWindow;
+  if (boundWindow <= budget)
   {
-    plan.SlabPlanes =
-      std::max<std::uint64_t>(1, sic::SlabPlanesForBudget(geometry, labelBytes, 0, budget / 4, workUnits));
+    plan.SlabPlanes = thickestSlab(maximumSize, budget);
   }
-  if (plan.SlabPlanes == 0)
+  else if (shallowestWindow <= budget)
+  {
+    plan.SlabPlanes = std::max<std::uint64_t>(1, thickestSlab(0, budget / 4));
+  }
+  else
   {
     throw LimitTooSmall(settings,
                         limit,
                         maximumSize,
                         plan,
-                        "it needs about " + std::to_string(((plan.ProcessBytes + leastWindow) >> 20) + 2) +
+                        "it needs about " + std::to_string(((plan.ProcessBytes + shallowestWindow) >> 20) + 2) +
                           " MiB with the shallowest window (the process itself " +
                           std::to_string((plan.ProcessBytes >> 20) + 1) + " MiB, a slab of one plane " +
-                          std::to_string((leastWindow >> 20) + 1) + " MiB)");
+                          std::to_string((shallowestWindow >> 20) + 1) + " MiB)");
   }
   return plan;
 }
