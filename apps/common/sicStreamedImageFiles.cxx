@@ -224,11 +224,6 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   data.Where = parts.Data.front();
   data.Compressed = data.Where.Encoding == ImageDataEncoding::Deflate;
   data.BigEndian = parts.BigEndian;
-  m_Files.push_back(path);
-  if (data.Where.File.string() != path)
-  {
-    m_Files.push_back(data.Where.File.string());
-  }
   data.BytesTotal = m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
   std::error_code error;
   const auto      fileSize = std::filesystem::file_size(data.Where.File, error);
@@ -277,12 +272,6 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
 }
 
 PlaneReader::~PlaneReader() = default;
-
-bool
-PlaneReader::IsCompressed() const
-{
-  return m_Data->Compressed;
-}
 
 void
 PlaneReader::Read(void * buffer, uint64_t planes)
@@ -565,12 +554,6 @@ PlaneWriter::PlaneWriter(const std::string &    path,
 }
 
 PlaneWriter::~PlaneWriter() = default;
-
-uint64_t
-PlaneWriter::GetDataBytes() const
-{
-  return m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
-}
 
 void
 PlaneWriter::Write(const void * buffer, uint64_t planes)

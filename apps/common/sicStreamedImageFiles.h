@@ -81,15 +81,6 @@ public:
   {
     return m_Geometry;
   }
-  /** The files the image consists of: its header and, when separate, its data file. */
-  const std::vector<std::string> &
-  GetFiles() const
-  {
-    return m_Files;
-  }
-  /** Whether the data are compressed. */
-  bool
-  IsCompressed() const;
 
   /** Reads the next \a planes planes into \a buffer (native byte order). */
   void
@@ -101,11 +92,10 @@ public:
 
 private:
   struct Data;
-  std::string              m_Path;
-  std::string              m_What;
-  VolumeGeometry           m_Geometry;
-  std::vector<std::string> m_Files;
-  std::unique_ptr<Data>    m_Data;
+  std::string           m_Path;
+  std::string           m_What;
+  VolumeGeometry        m_Geometry;
+  std::unique_ptr<Data> m_Data;
 };
 
 /** Writes an image plane by plane in the format its extension names (see StreamableFormats()),
@@ -124,10 +114,6 @@ public:
   PlaneWriter(const PlaneWriter &) = delete;
   PlaneWriter &
   operator=(const PlaneWriter &) = delete;
-
-  /** Bytes the image takes uncompressed. */
-  uint64_t
-  GetDataBytes() const;
 
   /** Writes the next \a planes planes from \a buffer (native byte order). */
   void
