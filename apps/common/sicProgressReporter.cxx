@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "sicProgressReporter.h"
 #include "sicPlatform.h"
+#include "sicStrings.h"
 
 #include "itkProcessObject.h"
 
@@ -28,20 +29,6 @@ namespace sic
 {
 namespace
 {
-std::string
-XmlEscaped(const std::string & text)
-{
-  std::string out;
-  for (const char c : text)
-  {
-    out += c == '&'   ? std::string("&amp;")
-           : c == '<' ? std::string("&lt;")
-           : c == '>' ? std::string("&gt;")
-                      : std::string(1, c);
-  }
-  return out;
-}
-
 constexpr int BarWidth = 30;
 } // namespace
 

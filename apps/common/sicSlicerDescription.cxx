@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "sicSlicerDescription.h"
+#include "sicStrings.h"
 
 #include <algorithm>
 #include <sstream>
@@ -24,45 +25,22 @@ namespace sic
 {
 namespace
 {
+/** A Slicer longflag has no hyphens: "--max-size" is spelled "--max_size", which the parser takes too. */
 std::string
-Escaped(const std::string & text)
+SlicerFlag(std::string flag)
 {
-  std::string out;
-  for (const char c : text)
-  {
-    switch (c)
-    {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+  std::replace(flag.begin() + 2, flag.end(), '-', '_');
+  return flag;
 }
 
-std::string
-SlicerFlag(const std::string & flag)
+/** <tag>value</tag> on a line of its own after \a indent; nothing when there is no value. */
+void
+WriteOptionalElement(std::ostringstream & out, const char * indent, const std::string & tag, const std::string & value)
 {
-  std::string spelled = flag;
-  for (size_t i = 2; i < spelled.size(); ++i)
+  if (!value.empty())
   {
-    if (spelled[i] == '-')
-    {
-      spelled[i] = '_';
-    }
+    out << indent << '<' << tag << '>' << XmlEscaped(value) << "</" << tag << ">\n";
   }
-  return spelled;
 }
 
 /** One parameter; \a flag is empty for a positional, which gets \a index instead. */
@@ -77,60 +55,45 @@ WriteParameter(std::ostringstream &    out,
   out << "    <" << parameter.Tag;
   if (!parameter.ImageType.empty())
   {
-    out << " type=\"" << Escaped(parameter.ImageType) << '"';
+    out << " type=\"" << XmlEscaped(parameter.ImageType) << '"';
   }
   if (!parameter.FileExtensions.empty())
   {
-    out << " fileExtensions=\"" << Escaped(parameter.FileExtensions) << '"';
+    out << " fileExtensions=\"" << XmlEscaped(parameter.FileExtensions) << '"';
   }
   if (parameter.Hidden)
   {
     out << " hidden=\"true\"";
   }
   out << ">\n";
-  out << "      <name>" << Escaped(parameter.Name) << "</name>\n";
+  out << "      <name>" << XmlEscaped(parameter.Name) << "</name>\n";
   if (flag.empty())
   {
     out << "      <index>" << index << "</index>\n";
   }
   else
   {
-    out << "      <longflag>" << Escaped(SlicerFlag(flag)) << "</longflag>\n";
+    out << "      <longflag>" << XmlEscaped(SlicerFlag(flag)) << "</longflag>\n";
   }
-  out << "      <label>" << Escaped(parameter.Label) << "</label>\n";
-  out << "      <description>" << Escaped(help) << "</description>\n";
-  if (!parameter.Channel.empty())
-  {
-    out << "      <channel>" << Escaped(parameter.Channel) << "</channel>\n";
-  }
+  out << "      <label>" << XmlEscaped(parameter.Label) << "</label>\n";
+  out << "      <description>" << XmlEscaped(help) << "</description>\n";
+  WriteOptionalElement(out, "      ", "channel", parameter.Channel);
   std::string defaultValue = parameter.Default.empty() ? commandLineDefault : parameter.Default;
   if (parameter.Tag == "boolean" && defaultValue.empty())
   {
     defaultValue = "false";
   }
-  if (!defaultValue.empty())
-  {
-    out << "      <default>" << Escaped(defaultValue) << "</default>\n";
-  }
+  WriteOptionalElement(out, "      ", "default", defaultValue);
   for (const std::string & element : parameter.Elements)
   {
-    out << "      <element>" << Escaped(element) << "</element>\n";
+    out << "      <element>" << XmlEscaped(element) << "</element>\n";
   }
   if (!parameter.Minimum.empty() || !parameter.Maximum.empty() || !parameter.Step.empty())
   {
     out << "      <constraints>\n";
-    if (!parameter.Minimum.empty())
-    {
-      out << "        <minimum>" << Escaped(parameter.Minimum) << "</minimum>\n";
-    }
-    if (!parameter.Maximum.empty())
-    {
-      out << "        <maximum>" << Escaped(parameter.Maximum) << "</maximum>\n";
-    }
-    if (!parameter.Step.empty())
-    {
-      out << "        <step>" << Escaped(parameter.Step) << "</step>\n";
-    }
+    WriteOptionalElement(out, "        ", "minimum", parameter.Minimum);
+    WriteOptionalElement(out, "        ", "maximum", parameter.Maximum);
+    WriteOptionalElement(out, "        ", "step", parameter.Step);
     out << "      </constraints>\n";
   }
   out << "    </" << parameter.Tag << ">\n";
@@ -158,22 +121,19 @@ SlicerDescriptionXml(const ToolDescription & tool)
 
   std::ostringstream out;
   out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<executable>\n";
-  out << "  <category>" << Escaped(tool.Category) << "</category>\n";
-  out << "  <title>" << Escaped(tool.Title) << "</title>\n";
-  out << "  <description>" << Escaped(tool.Description) << "</description>\n";
-  out << "  <version>" << Escaped(tool.Version) << "</version>\n";
-  if (!tool.DocumentationUrl.empty())
-  {
-    out << "  <documentation-url>" << Escaped(tool.DocumentationUrl) << "</documentation-url>\n";
-  }
-  out << "  <license>" << Escaped(tool.License) << "</license>\n";
-  out << "  <contributor>" << Escaped(tool.Contributor) << "</contributor>\n";
-  out << "  <acknowledgements>" << Escaped(tool.Acknowledgements) << "</acknowledgements>\n";
+  out << "  <category>" << XmlEscaped(tool.Category) << "</category>\n";
+  out << "  <title>" << XmlEscaped(tool.Title) << "</title>\n";
+  out << "  <description>" << XmlEscaped(tool.Description) << "</description>\n";
+  out << "  <version>" << XmlEscaped(tool.Version) << "</version>\n";
+  WriteOptionalElement(out, "  ", "documentation-url", tool.DocumentationUrl);
+  out << "  <license>" << XmlEscaped(tool.License) << "</license>\n";
+  out << "  <contributor>" << XmlEscaped(tool.Contributor) << "</contributor>\n";
+  out << "  <acknowledgements>" << XmlEscaped(tool.Acknowledgements) << "</acknowledgements>\n";
   for (const std::string & group : groups)
   {
     out << "  <parameters" << (group == "Advanced" ? " advanced=\"true\"" : "") << ">\n";
-    out << "    <label>" << Escaped(group) << "</label>\n";
-    out << "    <description>" << Escaped(group) << "</description>\n";
+    out << "    <label>" << XmlEscaped(group) << "</label>\n";
+    out << "    <description>" << XmlEscaped(group) << "</description>\n";
     for (size_t i = 0; i < tool.Positionals.size(); ++i)
     {
       const Positional & positional = tool.Positionals[i];

@@ -18,7 +18,7 @@
 #ifndef sicStrings_h
 #define sicStrings_h
 
-// The small text helpers the tools share: case, ends, surrounding white space and quoting.
+// The small text helpers the tools share: case, ends, surrounding white space, quoting and escaping.
 
 #include <algorithm>
 #include <cctype>
@@ -53,6 +53,18 @@ Trim(const std::string & text)
     return {};
   }
   return text.substr(first, text.find_last_not_of(" \t\r\n") - first + 1);
+}
+
+/** \a text with XML's special characters escaped, for element text and attribute values alike. */
+inline std::string
+XmlEscaped(const std::string & text)
+{
+  std::string out;
+  for (const char c : text)
+  {
+    out += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '"' ? "&quot;" : std::string(1, c);
+  }
+  return out;
 }
 
 /** \a text in single quotes, as the tools' messages name files and values: 'x.nrrd'. */
