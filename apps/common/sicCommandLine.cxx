@@ -104,11 +104,10 @@ ParsedCommandLine::Values(const std::string & flag) const
   return found == m_AllValues.end() ? std::vector<std::string>() : found->second;
 }
 
-// Our own loop rather than CLI11 or KWSys's CommandLineArguments: both accept what the tools
-// refuse (CLI11 takes "--quiet=1", "-500" as a positional, and "--stats= FILE" as --stats FILE;
-// KWSys needs each of "--flag value", "--flag=value" and the underscore spelling registered
-// apart) and word every error their own way, so keeping the messages and their order would
-// put this same loop in front of either.
+// Our own loop rather than CLI11 or KWSys's CommandLineArguments: both accept what the tools refuse (CLI11 takes
+// "--quiet=1", "-500" as a positional, and "--stats= FILE" as --stats FILE; KWSys needs each of "--flag value",
+// "--flag=value" and the underscore spelling registered apart) and word every error their own way, so keeping the
+// messages and their order would put this same loop in front of either.
 ParsedCommandLine
 ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[])
 {

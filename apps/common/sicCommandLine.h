@@ -74,8 +74,7 @@ struct Positional
   SlicerParameter Slicer;
 };
 
-/** Everything a tool says about itself: it drives the parser, --help and --xml, so the
- * three cannot disagree. */
+/** Everything a tool says about itself: it drives the parser, --help and --xml, so the three cannot disagree. */
 struct ToolDescription
 {
   std::string             Name;
@@ -127,10 +126,9 @@ private:
   std::vector<std::string>                        m_Positionals;
 };
 
-/** Parses argv[1..argc-1]: options in any order and anywhere ("--flag value" or
- * "--flag=value"), "-h" for "--help", and "--" ending the options. Throws ToolError for an
- * unknown option, a missing value, a value given to a switch or an option given twice.
- * The number of positionals is not checked here; see CheckPositionals(). */
+/** Parses argv[1..argc-1]: options in any order and anywhere ("--flag value" or "--flag=value"), "-h" for "--help", and
+ * "--" ending the options. Throws ToolError for an unknown option, a missing value, a value given to a switch or an
+ * option given twice. The number of positionals is not checked here; see CheckPositionals(). */
 ParsedCommandLine
 ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[]);
 
@@ -159,13 +157,11 @@ ParseChoice(const std::string & flag, const std::string & text, const std::vecto
 std::uint64_t
 ParseThreads(const ParsedCommandLine & arguments);
 
-/** The most work units --threads takes: ITK's limit, ITK_MAX_THREADS (128 unless ITK was
- * built otherwise). */
+/** The most work units --threads takes: ITK's limit, ITK_MAX_THREADS (128 unless ITK was built otherwise). */
 std::uint64_t
 MaximumThreads();
 
-/** Throws ToolError if one of \a flags, options that take a file path, was given an empty
- * value. */
+/** Throws ToolError if one of \a flags, options that take a file path, was given an empty value. */
 void
 CheckPathsNotEmpty(const ParsedCommandLine & arguments, const std::vector<std::string> & flags);
 } // namespace sic

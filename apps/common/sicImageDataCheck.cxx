@@ -122,11 +122,10 @@ LargestIdatChunk(const unsigned char * header)
   return std::min(largest, image + 6 + 5 * (image / std::min<std::uint64_t>(rowBytes, 32566) + 1));
 }
 
-/** Why \a path is not a complete PNG file libpng reads without failing, or empty. Every chunk must be complete and
- * pass its CRC. The chunks before the image data are checked as libpng checks them (ITK's reader of a PNG's header
- * cannot recover from libpng's errors there): IHDR first and valid, chunk names of four letters, no critical chunk
- * PNG does not define, a palette of whole entries before the image data, no ancillary chunk larger than libpng
- * allocates. */
+/** Why \a path is not a complete PNG file libpng reads without failing, or empty. Every chunk must be complete and pass
+ * its CRC. The chunks before the image data are checked as libpng checks them (ITK's reader of a PNG's header cannot
+ * recover from libpng's errors there): IHDR first and valid, chunk names of four letters, no critical chunk PNG does
+ * not define, a palette of whole entries before the image data, no ancillary chunk larger than libpng allocates. */
 std::string
 PngProblem(const fs::path & path)
 {

@@ -35,13 +35,12 @@
 namespace sic
 {
 /** Why the image file of \a parts does not hold all its voxels, as a phrase to follow the file's name (e.g. "is
- * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does,
- * or when its format is ImageFileFormat::Other. Checks that every data file is a regular file; that raw data has
- * as many bytes as the header describes (without reading them); that compressed data is complete zlib or gzip
- * streams whose checksums (and gzip lengths) match, inflating to exactly the bytes the header describes (reading
- * them once), and for MetaImage that its CompressedDataSize is what its stream takes; and that a PNG
- * file's chunks are complete, pass their CRCs and end with IEND. Data files are named as they are given: callers
- * that show other names replace them. */
+ * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does, or when
+ * its format is ImageFileFormat::Other. Checks that every data file is a regular file; that raw data has as many bytes
+ * as the header describes (without reading them); that compressed data is complete zlib or gzip streams whose checksums
+ * (and gzip lengths) match, inflating to exactly the bytes the header describes (reading them once), and for MetaImage
+ * that its CompressedDataSize is what its stream takes; and that a PNG file's chunks are complete, pass their CRCs and
+ * end with IEND. Data files are named as they are given: callers that show other names replace them. */
 std::string
 ImageFileProblem(const ImageFileParts & parts);
 

@@ -108,10 +108,9 @@ bool
 StartsWithPngSignature(const std::filesystem::path & path);
 
 /** The parts of the image file \a path, its format known by ImageFileFormatOf(), or PNG whatever its name when it
- * begins with PNG's signature (ITK's readers take such a file as PNG when the format its name gives declines it):
- * for NRRD (.nrrd,
- * .nhdr), MetaImage (.mha, .mhd) and NIfTI (.nii, .nii.gz, .hdr + .img), read from its header (data files are
- * relative to the header's directory); for every other format the file alone, with no Data. Data files are named
+ * begins with PNG's signature (ITK's readers take such a file as PNG when the format its name gives declines it): for
+ * NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd) and NIfTI (.nii, .nii.gz, .hdr + .img), read from its header (data files
+ * are relative to the header's directory); for every other format the file alone, with no Data. Data files are named
  * whether or not they exist. Sets \a problem, saying why (e.g. "its header is cut short"), when the header of one of
  * those formats cannot be read. */
 ImageFileParts

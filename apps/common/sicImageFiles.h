@@ -47,13 +47,11 @@ struct ScalarImageInfo
   std::vector<std::filesystem::path> Files;
 };
 
-/** Reads the header of the image file \a path (described to the user as \a what, e.g.
- * "input") and checks that the tools can process it: a regular file (a FIFO would be read
- * by each of ITK's format checks in turn), a scalar pixel of a supported type
- * (SupportedPixelTypes()) in 2 or 3 dimensions, at least one voxel along every axis, and
- * its voxels all there (ImageFileProblem(): data files of the size the header describes,
- * compressed data complete and passing its checksums), checked before anything is
- * allocated. Throws ToolError saying what is wrong. */
+/** Reads the header of the image file \a path (described to the user as \a what, e.g. "input") and checks that the
+ * tools can process it: a regular file (a FIFO would be read by each of ITK's format checks in turn), a scalar pixel of
+ * a supported type (SupportedPixelTypes()) in 2 or 3 dimensions, at least one voxel along every axis, and its voxels
+ * all there (ImageFileProblem(): data files of the size the header describes, compressed data complete and passing its
+ * checksums), checked before anything is allocated. Throws ToolError saying what is wrong. */
 ScalarImageInfo
 ReadScalarImageInfo(const std::string & path, const std::string & what);
 
@@ -71,8 +69,7 @@ struct PixelTypeEntry
 const PixelTypeEntry *
 FindPixelType(itk::IOComponentEnum componentType);
 
-/** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32" or "float64"; the ITK
- * name for any other type. */
+/** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32" or "float64"; the ITK name for any other type. */
 std::string
 PixelTypeName(itk::IOComponentEnum componentType);
 
@@ -126,17 +123,15 @@ ReadImage(const std::string & path, const std::string & what, itk::Command * obs
   return image;
 }
 
-/** Throws ToolError (naming \a finalPath, the path the user asked for) unless the image file ITK
- * wrote at \a path is complete (ImageFileProblem()): ITK's MetaImage and NIfTI writers only warn
- * when a write fails, e.g. on a full disk. Returns false, having checked nothing, for a format
- * ImageFileProblem() does not check. */
+/** Throws ToolError (naming \a finalPath, the path the user asked for) unless the image file ITK wrote at \a path is
+ * complete (ImageFileProblem()): ITK's MetaImage and NIfTI writers only warn when a write fails, e.g. on a full disk.
+ * Returns false, having checked nothing, for a format ImageFileProblem() does not check. */
 bool
 CheckWrittenImageFile(const std::string & path, const std::string & finalPath, const std::string & what);
 
 /** Writes \a image to \a path, compressed where the format allows unless \a compress is false, and checks that the file
- * holds it: with CheckWrittenImageFile(), or for the other formats by reading it back and
- * comparing every voxel. \a finalPath is the path the user asked for (the file may be written
- * elsewhere first), for messages. */
+ * holds it: with CheckWrittenImageFile(), or for the other formats by reading it back and comparing every voxel.
+ * \a finalPath is the path the user asked for (the file may be written elsewhere first), for messages. */
 template <typename TImage>
 void
 WriteImage(const TImage *      image,

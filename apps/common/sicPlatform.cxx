@@ -256,8 +256,7 @@ StandardErrorCapture::Replay()
 }
 
 #ifdef _WIN32
-// No POSIX here: std::filesystem and the C runtime where they do the job, a clear error
-// where they do not.
+// No POSIX here: std::filesystem and the C runtime where they do the job, a clear error where they do not.
 
 namespace
 {
@@ -608,8 +607,7 @@ BackgroundProgram::ReadLine(std::chrono::milliseconds timeout)
 
 namespace
 {
-/** The number after \a key in a "key: number unit" file such as /proc/self/status, in bytes
- * (the unit is kB), or 0. */
+/** The number after \a key in a "key: number unit" file such as /proc/self/status, in bytes (the unit is kB), or 0. */
 std::uint64_t
 KilobytesField(const char * path, const std::string & key)
 {

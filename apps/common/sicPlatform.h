@@ -34,9 +34,8 @@
 
 namespace sic
 {
-/** Creates a new directory in \a parent, named \a prefix followed by six random characters,
- * that no other process creates too, and returns its path. On failure returns an empty path
- * and sets \a error. */
+/** Creates a new directory in \a parent, named \a prefix followed by six random characters, that no other process
+ * creates too, and returns its path. On failure returns an empty path and sets \a error. */
 std::filesystem::path
 CreateUniqueDirectory(const std::filesystem::path & parent, const std::string & prefix, std::error_code & error);
 
@@ -113,8 +112,7 @@ private:
 bool
 StandardErrorIsTerminal();
 
-/** Whether the tools can start other programs here (RunProgram(), BackgroundProgram): on
- * POSIX systems only. */
+/** Whether the tools can start other programs here (RunProgram(), BackgroundProgram): on POSIX systems only. */
 bool
 CanStartPrograms();
 
@@ -131,10 +129,9 @@ RunProgram(const std::filesystem::path &    program,
            const std::vector<std::string> & arguments,
            const std::filesystem::path &    log);
 
-/** A program running in the background, its output discarded, until this object is
- * destroyed, which terminates it and waits for it to end. The program is given the write
- * end of a pipe, whose descriptor number follows \a pipeFlag on its command line, before
- * \a arguments (Xvfb -displayfd N ...); ReadLine() reads what it writes there. */
+/** A program running in the background, its output discarded, until this object is destroyed, which terminates it and
+ * waits for it to end. The program is given the write end of a pipe, whose descriptor number follows \a pipeFlag on its
+ * command line, before \a arguments (Xvfb -displayfd N ...); ReadLine() reads what it writes there. */
 class BackgroundProgram
 {
 public:

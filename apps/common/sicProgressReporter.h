@@ -45,8 +45,7 @@ public:
     SlicerXml
   };
 
-  /** Silent when \a quiet, SlicerXml when \a slicerXml, else Bar or Lines depending on
-   * whether stderr is a terminal. */
+  /** Silent when \a quiet, SlicerXml when \a slicerXml, else Bar or Lines depending on whether stderr is a terminal. */
   static Style
   ChooseStyle(bool quiet, bool slicerXml);
 
@@ -66,8 +65,7 @@ public:
   void
   Update(double fraction);
 
-  /** An observer for itk::ProgressEvent that reports the process object's progress
-   * within the current stage. */
+  /** An observer for itk::ProgressEvent that reports the process object's progress within the current stage. */
   itk::Command *
   Observer();
 

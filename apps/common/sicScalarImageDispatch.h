@@ -45,9 +45,8 @@ struct ImageTypeTag
   static constexpr unsigned int Dimension = VDimension;
 };
 
-/** Calls \a function with the PixelTypeTag of \a componentType, one of the types SupportedPixelTypes() names;
- * for any other type, throws what \a unsupported() returns. Every instantiation of \a function must return the
- * same type. */
+/** Calls \a function with the PixelTypeTag of \a componentType, one of the types SupportedPixelTypes() names; for any
+ * other type, throws what \a unsupported() returns. Every instantiation of \a function must return the same type. */
 template <typename TFunction, typename TUnsupported>
 decltype(auto)
 DispatchPixelType(itk::IOComponentEnum componentType, TFunction && function, TUnsupported && unsupported)
@@ -75,10 +74,9 @@ DispatchPixelType(itk::IOComponentEnum componentType, TFunction && function, TUn
   }
 }
 
-/** Calls \a function with the ImageTypeTag of the image \a info describes: its own pixel
- * type and dimension, so the image is processed without conversion. \a info must come
- * from ReadScalarImageInfo(), which accepts exactly the types handled here. Every
- * instantiation of \a function must return the same type. */
+/** Calls \a function with the ImageTypeTag of the image \a info describes: its own pixel type and dimension, so the
+ * image is processed without conversion. \a info must come from ReadScalarImageInfo(), which accepts exactly the types
+ * handled here. Every instantiation of \a function must return the same type. */
 template <typename TFunction>
 decltype(auto)
 DispatchScalarImage(const ScalarImageInfo & info, TFunction && function)

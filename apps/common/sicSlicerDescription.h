@@ -24,15 +24,14 @@
 
 namespace sic
 {
-/** The tool's 3D Slicer Execution Model description (the XML a Slicer CLI module prints
- * for --xml), built from the same ToolDescription as the parser.
+/** The tool's 3D Slicer Execution Model description (the XML a Slicer CLI module prints for --xml), built from the same
+ * ToolDescription as the parser.
  *
- * Slicer passes a parameter as "--" + its longflag, in the order of the description,
- * followed by the parameters that have an index (the positionals), in index order. A
- * Slicer longflag may contain only letters, digits and underscores, so the description
- * spells each flag with underscores ("--max_size"), which the parser accepts. Parameters
- * are grouped by SlicerParameter::Group, in the order the groups first appear; a group
- * named "Advanced" is marked advanced (collapsed in Slicer's GUI). */
+ * Slicer passes a parameter as "--" + its longflag, in the order of the description, followed by the parameters that
+ * have an index (the positionals), in index order. A Slicer longflag may contain only letters, digits and underscores,
+ * so the description spells each flag with underscores ("--max_size"), which the parser accepts. Parameters are grouped
+ * by SlicerParameter::Group, in the order the groups first appear; a group named "Advanced" is marked advanced
+ * (collapsed in Slicer's GUI). */
 std::string
 SlicerDescriptionXml(const ToolDescription & tool);
 } // namespace sic

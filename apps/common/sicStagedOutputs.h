@@ -30,20 +30,17 @@ namespace sic
 {
 /** Output files that appear all at once, or not at all.
  *
- * Each output is first written into a staging directory created beside its final path
- * (same file system, so moving it is a rename), named StagingDirectoryPrefix followed by six
- * random characters; Commit() then renames every staged file into place. An output whose
- * format writes several files (.mhd + .zraw, .nhdr + .raw.gz) is staged under its final
- * file name, so the header's reference to its data file stays right. Until Commit(), the
- * final paths are untouched; if the tool fails before that, the destructor removes the
- * staging directories, and so does a termination signal (HandleTerminationSignals()), so
- * neither leaves a half-written or partial output. Only a process killed outright (SIGKILL)
- * leaves its staging directories behind.
+ * Each output is first written into a staging directory created beside its final path (same file system, so moving it
+ * is a rename), named StagingDirectoryPrefix followed by six random characters; Commit() then renames every staged file
+ * into place. An output whose format writes several files (.mhd + .zraw, .nhdr + .raw.gz) is staged under its final
+ * file name, so the header's reference to its data file stays right. Until Commit(), the final paths are untouched; if
+ * the tool fails before that, the destructor removes the staging directories, and so does a termination signal
+ * (HandleTerminationSignals()), so neither leaves a half-written or partial output. Only a process killed outright
+ * (SIGKILL) leaves its staging directories behind.
  *
- * Stage() checks a destination before any work is done: its directory must exist, it
- * must not be a directory, and it must be neither a protected file (a file of an input;
- * compared by file identity, so links and other spellings of the same file are caught) nor
- * another output. Commit() checks every file that was written, data files included, in the
+ * Stage() checks a destination before any work is done: its directory must exist, it must not be a directory, and it
+ * must be neither a protected file (a file of an input; compared by file identity, so links and other spellings of the
+ * same file are caught) nor another output. Commit() checks every file that was written, data files included, in the
  * same way before it moves any. */
 class StagedOutputs
 {

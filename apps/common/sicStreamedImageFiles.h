@@ -59,11 +59,10 @@ IsStreamableImageFile(const std::string & path);
 std::string
 StreamableFormats();
 
-/** Reads an image's voxels plane by plane, without holding more than the planes asked for:
- * MetaImage and NRRD files whose data are raw (either byte order), zlib-compressed (MetaImage) or
- * gzip-compressed (NRRD). The geometry comes from ITK's reader; where the voxels are and how
- * they are stored from FindImageFileParts(), the header reader of the tools' data checks. Every
- * problem (another format, a data file that is too short, corrupt compressed data or a failed
+/** Reads an image's voxels plane by plane, without holding more than the planes asked for: MetaImage and NRRD files
+ * whose data are raw (either byte order), zlib-compressed (MetaImage) or gzip-compressed (NRRD). The geometry comes
+ * from ITK's reader; where the voxels are and how they are stored from FindImageFileParts(), the header reader of the
+ * tools' data checks. Every problem (another format, a data file that is too short, corrupt compressed data or a failed
  * checksum, data left over) is a ToolError with one line. */
 class PlaneReader
 {
@@ -98,10 +97,9 @@ private:
   std::unique_ptr<Data> m_Data;
 };
 
-/** Writes an image plane by plane in the format its extension names (see StreamableFormats()),
- * compressed unless asked not to, checking every write: a full disk or any other failure is a
- * ToolError, never a short file. The files are written at \a path (a staged path) and name their
- * data file relative to it. */
+/** Writes an image plane by plane in the format its extension names (see StreamableFormats()), compressed unless asked
+ * not to, checking every write: a full disk or any other failure is a ToolError, never a short file. The files are
+ * written at \a path (a staged path) and name their data file relative to it. */
 class PlaneWriter
 {
 public:

@@ -24,12 +24,11 @@
 
 namespace sic
 {
-/** The main() of a tool: parses the command line against \a tool, prints --help (and, for
- * a tool that offers it, the Slicer description for --xml), then calls \a run. Every
- * error becomes one line on stderr, prefixed with the tool's name, and an exit status:
- * ExitUsage for a ToolError (a wrong command line, an input or output that cannot be
- * used), ExitFailure for anything else (out of memory, a thread that cannot start), std::terminate()
- * included (HandleTerminate()). After a failure the process ends at once, without static destructors. */
+/** The main() of a tool: parses the command line against \a tool, prints --help (and, for a tool that offers it, the
+ * Slicer description for --xml), then calls \a run. Every error becomes one line on stderr, prefixed with the tool's
+ * name, and an exit status: ExitUsage for a ToolError (a wrong command line, an input or output that cannot be used),
+ * ExitFailure for anything else (out of memory, a thread that cannot start), std::terminate() included
+ * (HandleTerminate()). After a failure the process ends at once, without static destructors. */
 int
 ToolMain(const ToolDescription &                               tool,
          int                                                   argc,
