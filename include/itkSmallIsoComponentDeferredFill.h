@@ -20,6 +20,7 @@
 
 #include "itkIntTypes.h"
 #include "SmallIsoComponentExport.h"
+#include "itkSmallIsoComponentTuning.h"
 
 namespace itk
 {
@@ -59,7 +60,7 @@ public:
     return m_NumberOfBlocks == 0;
   }
 
-  /** Blocks of whole lines, about FillBlockBytes of output and mask each. */
+  /** Blocks of whole lines, about Tuning::FillBlockBytes of output and mask each. */
   SizeValueType
   GetNumberOfBlocks() const
   {
@@ -79,9 +80,6 @@ public:
    * blocks may be written concurrently. */
   void
   FillBlock(SizeValueType block) const;
-
-  /** Output and mask bytes per block. */
-  static constexpr SizeValueType FillBlockBytes = SizeValueType{ 256 } << 10;
 
 private:
   const char *  m_Source{ nullptr };

@@ -25,6 +25,7 @@
 #include "itkSmallIsoComponentPeakMemory.h"
 #include "itkSmallIsoComponentPhaseClock.h"
 #include "itkSmallIsoComponentRunLabeling.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <functional>
 #include <memory>
 #include <type_traits>
@@ -165,12 +166,6 @@ public:
   static constexpr SizeValueType DefaultSlabSweepMinimumSize = 1073741824; // 2^30
   static constexpr SizeValueType ChosenSlabVoxels = 16777216;              // 2^24
   /** @} */
-
-  /** Where the output's copy of a large input and the mask are written after the runs are
-   * encoded, the numbering of the components is shared between two work units only if they
-   * take at most this many bytes per run: else writing them is the longer work, and goes
-   * better beside a serial numbering, which leaves every other work unit free for it. */
-  static constexpr SizeValueType FillBytesPerRunToShareNumbering = 16;
 
   /** \name Working memory kept between updates
    * The arrays of the scanline runs (8 bytes per run, the bulk of

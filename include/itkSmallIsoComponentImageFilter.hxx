@@ -335,8 +335,8 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & t
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
   const SizeValueType    length = labeling.GetLineLength();
   const SizeValueType    lines = labeling.GetNumberOfLines();
-  const bool             stream =
-    length * lines * (sizeof(OutputPixelType) + maskPixelBytes) >= SmallIsoComponentDetail::StreamingThresholdInBytes;
+  const bool             stream = length * lines * (sizeof(OutputPixelType) + maskPixelBytes) >=
+                      SmallIsoComponentDetail::Tuning::StreamingThresholdInBytes;
   const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(m_IsoValue);
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
@@ -459,7 +459,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
                              aboveCandidateSize,
                              belowCandidateSize,
                              fillOne,
-                             labeling.GetNumberOfRuns() * FillBytesPerRunToShareNumbering >= fill.GetNumberOfBytes(),
+                             labeling.GetNumberOfRuns() *
+                                 SmallIsoComponentDetail::Tuning::FillBytesPerRunToShareNumbering >=
+                               fill.GetNumberOfBytes(),
                              bothSides ? &m_Working->Groups.GroupOfComponent : nullptr,
                              bothSides ? &m_Working->Runs : nullptr);
     if (nextBlock.load() < blocks)

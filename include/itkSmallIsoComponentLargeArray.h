@@ -20,13 +20,14 @@
 
 #include "itkIntTypes.h"
 #include "SmallIsoComponentExport.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <type_traits>
 
 namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-/** Uninitialised memory of at least \a bytes bytes. Blocks of LargeBlockBytes or more are
+/** Uninitialised memory of at least \a bytes bytes. Blocks of Tuning::LargeBlockBytes or more are
  * aligned to 2 MiB and, on Linux, offered to the kernel for transparent huge pages, so
  * that touching them first costs one fault per 2 MiB instead of one per 4 KiB. */
 SmallIsoComponent_EXPORT void *
@@ -35,9 +36,6 @@ AllocateLarge(SizeValueType bytes);
 /** Frees what AllocateLarge() returned (nullptr is allowed). */
 SmallIsoComponent_EXPORT void
 FreeLarge(void * block) noexcept;
-
-/** The block size from which AllocateLarge() asks for huge pages. */
-constexpr SizeValueType LargeBlockBytes = SizeValueType{ 4 } << 20;
 
 /** \class LargeArray
  * \brief An array of trivially copyable values whose memory is kept when it is asked for

@@ -44,17 +44,6 @@ Prefetch(const void * address)
 #endif
 }
 
-/** From how many runs in all the loops over removed or flipped runs request what a run
- * reads: below it the run arrays (8 bytes a run) fit the second-level cache, and the
- * requests only cost (see docs/performance.md, "Prefetches"). */
-constexpr SizeValueType PrefetchMinimumRuns = SizeValueType{ 1 } << 20;
-
-/** How many runs ahead a loop over removed or flipped runs requests what a run reads. */
-constexpr SizeValueType PrefetchRunsAhead = 8;
-
-/** How many runs ahead the grouping requests where the neighbouring lines' runs begin:
- * twice PrefetchRunsAhead, so that it has arrived when their runs are requested. */
-constexpr SizeValueType PrefetchLineTablesAhead = 2 * PrefetchRunsAhead;
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 

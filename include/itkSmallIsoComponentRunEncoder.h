@@ -22,6 +22,7 @@
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentSideBits.h"
 #include "itkSmallIsoComponentThreshold.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
 #include <vector>
 
@@ -94,7 +95,7 @@ public:
    * line are counted, then the labeling makes room for all of them at once and each line
    * writes its starts in place, so the run array is neither grown nor copied.
    * prepareLines(first, end) is called for consecutive blocks of lines of a slab (about
-   * BlockBytes of voxels each) just before their lines are first read, so that the caller
+   * Tuning::EncoderBlockBytes of voxels each) just before their lines are first read, so that the caller
    * can fill the buffer block by block while it is in cache; finishSlab() is called by the
    * work unit that counted a slab, after its last line. */
   template <typename TPrepareLines, typename TFinishSlab>
@@ -106,7 +107,8 @@ public:
          TFinishSlab &&   finishSlab) const
   {
     const SizeValueType length = labeling.GetLineLength();
-    const SizeValueType linesPerBlock = std::max<SizeValueType>(1, BlockBytes / (length * sizeof(TPixel)));
+    const SizeValueType linesPerBlock =
+      std::max<SizeValueType>(1, Tuning::EncoderBlockBytes / (length * sizeof(TPixel)));
     team.ForEach(labeling.GetNumberOfSlabs(), [&](SizeValueType slab) {
       const SizeValueType slabEnd = labeling.GetSlabBeginLine(slab + 1);
       for (SizeValueType block = labeling.GetSlabBeginLine(slab); block < slabEnd; block += linesPerBlock)
@@ -145,9 +147,6 @@ public:
     this->Encode(
       buffer, labeling, team, [](SizeValueType, SizeValueType) {}, [] {});
   }
-
-  /** Voxel bytes per block handed to prepareLines() in Encode(). */
-  static constexpr SizeValueType BlockBytes = 32768;
 
   /** Writes the starts of the runs of the \a length voxels at \a values at \a starts, and
    * the line's boundary bits (a bit per voxel where a run starts, 64 voxels a word) at

@@ -23,6 +23,7 @@
 #include "itkSmallIsoComponentLineNeighbors.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
 #include <atomic>
 #include <functional>
@@ -60,7 +61,7 @@ namespace SmallIsoComponentDetail
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, 9 bytes per component, 8 bytes per candidate run
  * (LabelComponents(candidateSize)), and for each work unit the boundary bits of the lines
- * a line reaches back to (at most BitsCacheBytes); where lines have BitsRunsPerWord / 2 runs
+ * a line reaches back to (at most Tuning::BitsCacheBytes); where lines have Tuning::BitsRunsPerWord / 2 runs
  * per 64 voxels or more on average, the boundary bits of every line instead (one bit per
  * voxel, at most 1/6 byte per run). The arrays keep their memory from one Initialize() to
  * the next (the run arrays take huge pages where the system offers them), so that
@@ -80,13 +81,10 @@ public:
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
    * number of work units the work will be shared among (the lines are cut into up to
-   * SlabsPerWorkUnit slabs per work unit, one slab for one work unit). Clears earlier
+   * Tuning::SlabsPerWorkUnit slabs per work unit, one slab for one work unit). Clears earlier
    * results. */
   void
   Initialize(const std::vector<SizeValueType> & size, bool fullyConnected, unsigned int maximumNumberOfSlabs);
-
-  /** Slabs per work unit when there are several work units. */
-  static constexpr unsigned int SlabsPerWorkUnit = 4;
 
   SizeValueType
   GetLineLength() const
@@ -140,7 +138,7 @@ public:
     return m_RunStart.data() + m_LineRunBegin[line];
   }
   /** Where \a line's boundary bits go (after ReserveRuns()), or nullptr when they are not
-   * kept: kept, for every line, where the lines have BitsRunsPerWord / 2 runs per 64 voxels
+   * kept: kept, for every line, where the lines have Tuning::BitsRunsPerWord / 2 runs per 64 voxels
    * or more on average (and lines are linked automatically); whoever writes the line's
    * starts writes them too (bit 0 set, since a run starts there), as RunEncoder does from
    * the words of changes of side it finds the starts with. */
@@ -210,20 +208,12 @@ public:
                   std::vector<ComponentIndexType> * partialSizes = nullptr,
                   std::vector<LineRun> *            partialCandidates = nullptr);
 
-  /** Below this many runs the numbering is not shared: sharing pays on volumes with many
-   * short runs, and loses on real volumes, whose short serial numbering leaves the other
-   * work units free to write the output beside it (see docs/performance.md). */
-  static constexpr SizeValueType MinimumRunsToShareNumbering = SizeValueType{ 1 } << 20;
   SizeValueType
   GetMinimumRunsToShareNumbering() const
   {
     return m_MinimumRunsToShareNumbering;
   }
 
-  /** With the scratch arrays, the two stages of a shared numbering share its lines out in
-   * claims of this many lines. A claim is taken from the front (the low 32 bits of a word:
-   * the next claim) or from the end (the high 32 bits: one past the last claim left). */
-  static constexpr SizeValueType LinesPerClaim = 64;
 
   SizeValueType
   GetNumberOfComponents() const
@@ -328,9 +318,7 @@ public:
       return begin + static_cast<SizeValueType>(static_cast<double>(LineBegin[line + 1] - begin) *
                                                 static_cast<double>(x) * perVoxel);
     }
-    /** How far from a guess RunHolding() with a guess looks first. */
-    static constexpr SizeValueType NearRuns = 16;
-    /** RunHolding(), searching first the runs within NearRuns of \a guess (a run of
+    /** RunHolding(), searching first the runs within Tuning::NearRuns of \a guess (a run of
      * \a line): where runs are spread about evenly, only the cache lines near the guess are
      * read, and they can be requested ahead. */
     SizeValueType
@@ -338,8 +326,8 @@ public:
     {
       const SizeValueType begin = LineBegin[line];
       const SizeValueType end = LineBegin[line + 1];
-      const SizeValueType low = guess > begin + NearRuns ? guess - NearRuns : begin;
-      const SizeValueType high = std::min(end, guess + NearRuns + 1);
+      const SizeValueType low = guess > begin + Tuning::NearRuns ? guess - Tuning::NearRuns : begin;
+      const SizeValueType high = std::min(end, guess + Tuning::NearRuns + 1);
       if (low >= high || Start[low] > x || (high < end && Start[high] <= x))
       {
         return this->LastStartingBy(begin, end, x);
@@ -408,11 +396,6 @@ public:
   void
   ReleaseMemory();
 
-  /** Below this many runs per 64 voxels (over both lines) a merge was faster on the real
-   * volumes of the benchmark; above it, the bits. */
-  static constexpr SizeValueType BitsRunsPerWord = 6;
-  /** The most bytes of boundary bits one work unit keeps for the lines before its line. */
-  static constexpr SizeValueType BitsCacheBytes = SizeValueType{ 1 } << 20;
 
 protected:
   /** \name Ways of working that only the tests choose
@@ -422,7 +405,7 @@ protected:
   /** How two neighbouring lines have their runs linked. */
   enum class LineLinking : uint8_t
   {
-    /** By their boundary bits where the two lines have at least BitsRunsPerWord runs per
+    /** By their boundary bits where the two lines have at least Tuning::BitsRunsPerWord runs per
      * 64 voxels of line, else by a merge. */
     Automatic,
     /** Always by a merge of their runs. */
@@ -433,7 +416,7 @@ protected:
   /** Chooses how lines are linked and how many bytes of boundary bits a work unit keeps,
    * from the next Initialize() on. */
   void
-  SetLineLinking(LineLinking linking, SizeValueType bitsCacheBytes = BitsCacheBytes)
+  SetLineLinking(LineLinking linking, SizeValueType bitsCacheBytes = Tuning::BitsCacheBytes)
   {
     m_LineLinking = linking;
     m_BitsCacheBytes = bitsCacheBytes;
@@ -585,9 +568,9 @@ private:
   bool                 m_KeepLineBits{ false };
   LargeArray<uint64_t> m_KeptLineBits;
   LineLinking          m_LineLinking{ LineLinking::Automatic };
-  SizeValueType        m_BitsCacheBytes{ BitsCacheBytes };
-  SizeValueType        m_MinimumRunsToShareNumbering{ MinimumRunsToShareNumbering };
-  SizeValueType        m_LinesPerClaim{ LinesPerClaim };
+  SizeValueType        m_BitsCacheBytes{ Tuning::BitsCacheBytes };
+  SizeValueType        m_MinimumRunsToShareNumbering{ Tuning::MinimumRunsToShareNumbering };
+  SizeValueType        m_LinesPerClaim{ Tuning::LinesPerClaim };
   /** Where each claim the first stage took begins in its candidates (kept between updates). */
   std::vector<SizeValueType>    m_ClaimBegin;
   std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };

@@ -22,6 +22,7 @@
 #include "itkSmallIsoComponentBelowGrouping.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <functional>
 #include <vector>
 
@@ -125,7 +126,7 @@ private:
   }
 
   /** Calls visit(run) for the runs of \a chunk in order, and prefetch(run) for the run
-   * PrefetchRunsAhead ahead of each. */
+   * Tuning::PrefetchRunsAhead ahead of each. */
   template <typename TPrefetch, typename TVisit>
   void
   ForEachRunOf(SizeValueType chunk, TPrefetch && prefetch, TVisit && visit) const;
@@ -140,7 +141,7 @@ private:
   std::vector<std::vector<TPixel>>   m_OwnValues;
   std::vector<std::vector<TPixel>> & m_Values;
   std::vector<SizeValueType>         m_Unrepairable;
-  /** Whether the loops request what runs ahead read (see PrefetchMinimumRuns). */
+  /** Whether the loops request what runs ahead read (see Tuning::PrefetchMinimumRuns). */
   bool m_Prefetch;
 };
 } // namespace SmallIsoComponentDetail

@@ -53,7 +53,7 @@ RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                         team
   // threads costs more than it saves.
   , m_NumberOfChunks(team.GetNumberOfChunks(runs.size()))
   , m_Values(values)
-  , m_Prefetch(labeling.GetNumberOfRuns() >= PrefetchMinimumRuns)
+  , m_Prefetch(labeling.GetNumberOfRuns() >= Tuning::PrefetchMinimumRuns)
 {
   m_Stride[0] = 1;
   for (unsigned int a = 1; a < VDimension; ++a)
@@ -79,23 +79,23 @@ RunRepair<TPixel, VDimension>::ForEachRunOf(SizeValueType chunk, TPrefetch && pr
     }
     return;
   }
-  for (SizeValueType i = begin; i < std::min(end, begin + 2 * PrefetchRunsAhead); ++i)
+  for (SizeValueType i = begin; i < std::min(end, begin + 2 * Tuning::PrefetchRunsAhead); ++i)
   {
     Prefetch(m_Table.Start + m_Runs[i].Run);
   }
-  for (SizeValueType i = begin; i < std::min(end, begin + PrefetchRunsAhead); ++i)
+  for (SizeValueType i = begin; i < std::min(end, begin + Tuning::PrefetchRunsAhead); ++i)
   {
     prefetch(m_Runs[i]);
   }
   for (SizeValueType i = begin; i < end; ++i)
   {
-    if (i + 2 * PrefetchRunsAhead < end)
+    if (i + 2 * Tuning::PrefetchRunsAhead < end)
     {
-      Prefetch(m_Table.Start + m_Runs[i + 2 * PrefetchRunsAhead].Run);
+      Prefetch(m_Table.Start + m_Runs[i + 2 * Tuning::PrefetchRunsAhead].Run);
     }
-    if (i + PrefetchRunsAhead < end)
+    if (i + Tuning::PrefetchRunsAhead < end)
     {
-      prefetch(m_Runs[i + PrefetchRunsAhead]);
+      prefetch(m_Runs[i + Tuning::PrefetchRunsAhead]);
     }
     visit(m_Runs[i]);
   }

@@ -25,11 +25,6 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-/** Images whose output and mask together take at least this many bytes (twice a core's
- * level-2 cache on the machines measured) are written with streaming stores: they would
- * not stay in the caches anyway, and streaming saves reading every written cache line
- * from memory first. Internal to SmallIsoComponentImageFilter, like the functions below. */
-constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 4 } << 20;
 
 /** Copies \a bytes from \a source to \a destination, with streaming stores where SSE2 has
  * them: whole 64-byte cache lines only, the partial lines at both ends with ordinary

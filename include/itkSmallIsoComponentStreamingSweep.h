@@ -22,6 +22,7 @@
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentRunEncoder.h"
 #include "itkSmallIsoComponentWorkTeam.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <deque>
 #include <functional>
 #include <memory>
@@ -189,10 +190,7 @@ private:
   unsigned int        m_WorkUnits;
   PlaneCallback       m_Emit;
 
-  std::vector<TPixel> m_Pending;
-  /** A slab dropped from the window, kept (with its buffer and labelling arrays) for the next
-   * slab. */
-  static constexpr std::size_t       MaximumSpareSlabs = 1;
+  std::vector<TPixel>                m_Pending;
   std::vector<std::unique_ptr<Slab>> m_SpareSlabs;
   uint64_t                           m_PlanesIn{ 0 };
   uint64_t                           m_NextPlaneOut{ 0 };

@@ -542,7 +542,7 @@ StreamingSweep<TPixel>::EmitReadyPlanes()
   // plane may read the slab's last plane.
   while (!m_Window.empty() && (m_Window.front()->End < m_NextPlaneOut || m_NextPlaneOut == m_Size[2]))
   {
-    if (m_NextPlaneOut < m_Size[2] && m_SpareSlabs.size() < MaximumSpareSlabs)
+    if (m_NextPlaneOut < m_Size[2] && m_SpareSlabs.size() < Tuning::MaximumSpareSlabs)
     {
       m_SpareSlabs.push_back(std::move(m_Window.front()));
     }

@@ -21,6 +21,7 @@
 #include "itkIntTypes.h"
 #include "itkMultiThreaderBase.h"
 #include "SmallIsoComponentExport.h"
+#include "itkSmallIsoComponentTuning.h"
 
 #include <algorithm>
 #include <functional>
@@ -86,22 +87,16 @@ public:
     return m_NumberOfHelpers;
   }
 
-  /** Loops over fewer cheap items than this (runs to repair or to group) are run by the
-   * calling thread alone: waking the threader's pool for them costs more than it saves. */
-  static constexpr SizeValueType MinimumItemsToShare = 2048;
-  /** The same when the team has helpers: they are awake already. */
-  static constexpr SizeValueType MinimumItemsToShareWithHelpers = 256;
-  /** Chunks per work unit when a loop over cheap items is shared. */
-  static constexpr SizeValueType ChunksPerWorkUnit = 32;
 
   /** How many chunks a loop over \a items cheap items is cut into, for ForEach(): one
-   * below the minimum to share, else ChunksPerWorkUnit per work unit (at most one per
+   * below the minimum to share, else Tuning::ChunksPerWorkUnit per work unit (at most one per
    * item). */
   SizeValueType
   GetNumberOfChunks(SizeValueType items) const
   {
-    const SizeValueType minimum = m_NumberOfHelpers > 0 ? MinimumItemsToShareWithHelpers : MinimumItemsToShare;
-    return items < minimum ? 1 : std::min<SizeValueType>(items, ChunksPerWorkUnit * m_NumberOfWorkUnits);
+    const SizeValueType minimum =
+      m_NumberOfHelpers > 0 ? Tuning::MinimumItemsToShareWithHelpers : Tuning::MinimumItemsToShare;
+    return items < minimum ? 1 : std::min<SizeValueType>(items, Tuning::ChunksPerWorkUnit * m_NumberOfWorkUnits);
   }
   /** How many parts a loop over \a items cheap items that keeps state of its own per part
    * is cut into: one per work unit where GetNumberOfChunks() would share the loop, else one. */

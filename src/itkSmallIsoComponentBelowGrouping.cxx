@@ -19,6 +19,7 @@
 #include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
 #include "itkSmallIsoComponentUnionFind.h"
+#include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
 
 namespace itk
@@ -131,7 +132,7 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
         else
         {
           // (A line of a few runs is searched whole.)
-          below = lineRunBegin[other + 1] - lineRunBegin[other] > 2 * RunLabeling::RunTable::NearRuns
+          below = lineRunBegin[other + 1] - lineRunBegin[other] > 2 * Tuning::NearRuns
                     ? table.RunHolding(other, from, table.GuessRunHolding(other, from, perVoxel))
                     : table.RunHolding(other, from);
           end = lineRunBegin[other + 1];
@@ -172,7 +173,7 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
     const SizeValueType     line = ahead.Line;
     const SizeValueType     start = runStart[ahead.Run];
     const SizeValueType     from = start >= allowance ? start - allowance : 0;
-    constexpr SizeValueType near = RunLabeling::RunTable::NearRuns;
+    constexpr SizeValueType near = Tuning::NearRuns;
     const auto              runsOf = [&](SizeValueType other) {
       const SizeValueType guess = table.GuessRunHolding(other, from, perVoxel);
       const SizeValueType low = guess >= near ? guess - near : 0;
@@ -204,16 +205,16 @@ BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
     }
   };
   const auto runs = static_cast<SizeValueType>(last - first);
-  const bool prefetch = m_Labeling->GetNumberOfRuns() >= PrefetchMinimumRuns;
+  const bool prefetch = m_Labeling->GetNumberOfRuns() >= Tuning::PrefetchMinimumRuns;
   for (SizeValueType i = 0; i < runs; ++i)
   {
-    if (prefetch && i + PrefetchLineTablesAhead < runs)
+    if (prefetch && i + Tuning::PrefetchLineTablesAhead < runs)
     {
-      prefetchLines(first[i + PrefetchLineTablesAhead]);
+      prefetchLines(first[i + Tuning::PrefetchLineTablesAhead]);
     }
-    if (prefetch && i + PrefetchRunsAhead < runs)
+    if (prefetch && i + Tuning::PrefetchRunsAhead < runs)
     {
-      prefetchRuns(first[i + PrefetchRunsAhead]);
+      prefetchRuns(first[i + Tuning::PrefetchRunsAhead]);
     }
     const SizeValueType      run = first[i].Run;
     const SizeValueType      line = first[i].Line;

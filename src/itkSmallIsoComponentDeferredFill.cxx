@@ -35,7 +35,7 @@ DeferredFill::DeferredFill(const void *  source,
   , m_OutputLineBytes(outputLineBytes)
   , m_MaskLineBytes(maskLineBytes)
   , m_NumberOfLines(numberOfLines)
-  , m_LinesPerBlock(std::max<SizeValueType>(1, FillBlockBytes / (outputLineBytes + maskLineBytes)))
+  , m_LinesPerBlock(std::max<SizeValueType>(1, Tuning::FillBlockBytes / (outputLineBytes + maskLineBytes)))
   , m_NumberOfBlocks((numberOfLines + m_LinesPerBlock - 1) / m_LinesPerBlock)
 {}
 

@@ -34,7 +34,7 @@ constexpr SizeValueType HugePageBytes = SizeValueType{ 2 } << 20;
 void *
 AllocateLarge(SizeValueType bytes)
 {
-  if (bytes < LargeBlockBytes)
+  if (bytes < Tuning::LargeBlockBytes)
   {
     void * block = std::malloc(bytes == 0 ? 1 : bytes);
     if (block == nullptr)

@@ -55,7 +55,7 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
   const SizeValueType planes = dimension > 1 ? size[dimension - 1] : 1;
   const SizeValueType linesPerPlane = m_NumberOfLines / std::max<SizeValueType>(planes, 1);
   const SizeValueType wanted =
-    maximumNumberOfSlabs > 1 ? SizeValueType{ maximumNumberOfSlabs } * SlabsPerWorkUnit : SizeValueType{ 1 };
+    maximumNumberOfSlabs > 1 ? SizeValueType{ maximumNumberOfSlabs } * Tuning::SlabsPerWorkUnit : SizeValueType{ 1 };
   const SizeValueType slabs = std::max<SizeValueType>(1, std::min<SizeValueType>(wanted, planes));
   m_SlabBeginLine.resize(slabs + 1);
   for (SizeValueType slab = 0; slab <= slabs; ++slab)
@@ -120,8 +120,8 @@ RunLabeling::ReserveRuns()
   // Dense lines are linked from their bits: keep every line's, written with its starts,
   // rather than writing them again from the starts when they are linked. (The memory is
   // kept for the next image, as the run arrays are.)
-  m_KeepLineBits =
-    m_LineLinking == LineLinking::Automatic && 2 * numberOfRuns >= BitsRunsPerWord * m_BitsWords * m_NumberOfLines;
+  m_KeepLineBits = m_LineLinking == LineLinking::Automatic &&
+                   2 * numberOfRuns >= Tuning::BitsRunsPerWord * m_BitsWords * m_NumberOfLines;
   if (m_KeepLineBits)
   {
     m_KeptLineBits.Reserve(m_NumberOfLines * m_BitsWords);
@@ -461,7 +461,7 @@ RunLabeling::LinksByBits(SizeValueType lineA, SizeValueType lineB) const
   // of the ring are merged.
   const SizeValueType runs =
     m_LineRunBegin[lineA + 1] - m_LineRunBegin[lineA] + m_LineRunBegin[lineB + 1] - m_LineRunBegin[lineB];
-  const bool merge = m_LineLinking == LineLinking::Automatic ? runs < BitsRunsPerWord * m_BitsWords || runs <= 2
+  const bool merge = m_LineLinking == LineLinking::Automatic ? runs < Tuning::BitsRunsPerWord * m_BitsWords || runs <= 2
                                                              : m_LineLinking == LineLinking::Merge;
   // (lineA comes after lineB: they share a slot only if they are a multiple of the ring
   // apart, never when the ring holds every line a line reaches back to.)
@@ -607,7 +607,7 @@ GrowSizes(std::vector<SizeValueType> & sizes, SizeValueType count)
 }
 
 /** Candidate runs gathered in a small buffer, appended to \a runs when it is full and at the
- * end: a run is one store, and the vector is reached once per BufferSize runs. TEntry is
+ * end: a run is one store, and the vector is reached once per Tuning::CandidateBufferRuns runs. TEntry is
  * RunLabeling::CandidateRun (a run and its component) or RunLabeling::LineRun (a run and its
  * line). */
 template <typename TEntry>
@@ -630,7 +630,7 @@ public:
       m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run),
                               static_cast<RunLabeling::ComponentIndexType>(component) };
     }
-    if (m_Count == BufferSize)
+    if (m_Count == Tuning::CandidateBufferRuns)
     {
       this->Flush();
     }
@@ -643,10 +643,9 @@ public:
   }
 
 private:
-  static constexpr SizeValueType BufferSize = 256;
-  std::vector<TEntry> &          m_Runs;
-  TEntry                         m_Buffer[BufferSize];
-  SizeValueType                  m_Count{ 0 };
+  std::vector<TEntry> & m_Runs;
+  TEntry                m_Buffer[Tuning::CandidateBufferRuns];
+  SizeValueType         m_Count{ 0 };
 };
 
 /** Adds the runs of \a line to the sizes of their components (numbered already), and keeps
@@ -835,9 +834,8 @@ RunLabeling::LabelComponents(WorkTeam &                        team,
 void
 RunLabeling::NumberRuns(Progress & progress)
 {
-  RunIndexType * const    label = m_RunLabel.data();
-  ComponentIndexType      components = 0;
-  constexpr SizeValueType LinesPerStep = 16;
+  RunIndexType * const label = m_RunLabel.data();
+  ComponentIndexType   components = 0;
   for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
   {
     const SizeValueType end = m_LineRunBegin[line + 1];
@@ -859,7 +857,7 @@ RunLabeling::NumberRuns(Progress & progress)
       }
       label[run] = component;
     }
-    if ((line + 1) % LinesPerStep == 0)
+    if ((line + 1) % Tuning::NumberingLinesPerStep == 0)
     {
       progress.Components.store(components, std::memory_order_relaxed);
       progress.Lines.store(line + 1, std::memory_order_release);

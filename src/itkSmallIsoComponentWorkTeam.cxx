@@ -43,10 +43,6 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 
-/** How long an idle helper keeps checking for the next loop before it sleeps: longer
- * than the serial steps between the loops of an update on real volumes (well under a
- * millisecond), short enough not to matter where the steps are long. */
-constexpr auto HelperSpinTime = std::chrono::microseconds(1000);
 
 /** Spins until done() is true, yielding the core now and then so that a thread it waits
  * for can run on a busy machine. */
@@ -140,7 +136,7 @@ struct WorkTeam::State
     while (true)
     {
       const auto news = [&] { return Quitting.load() || Generation.load() != seen; };
-      const auto spinEnd = Clock::now() + HelperSpinTime;
+      const auto spinEnd = Clock::now() + Tuning::HelperSpinTime;
       for (unsigned int round = 1; !news(); ++round)
       {
         SMALLISO_CPU_PAUSE();

@@ -100,7 +100,7 @@ TEST(SmallIsoComponentDeferredFill, EveryBlockOfLinesCopiedAndClearedOnce)
       inPlace ? outputStart : source.data(), outputStart, length * pixelBytes, mask.data() + Guard, length, lines);
     ASSERT_FALSE(fill.IsEmpty());
     const SizeValueType linesPerBlock =
-      std::max<SizeValueType>(1, Detail::DeferredFill::FillBlockBytes / (length * (pixelBytes + 1)));
+      std::max<SizeValueType>(1, itk::SmallIsoComponentDetail::Tuning::FillBlockBytes / (length * (pixelBytes + 1)));
     ASSERT_EQ(fill.GetNumberOfBlocks(), (lines + linesPerBlock - 1) / linesPerBlock);
 
     // The blocks in a random order, as the work units take them.

@@ -113,9 +113,9 @@ TEST(SmallIsoComponentDifferential, ManyRemovedRunsAndStreamedOutput3D)
     settings.Side = SideEnum::Both;
     settings.FullyConnected = fullyConnected;
     const auto expected = Reference::Run<uint8_t>(input.GetPointer(), settings);
-    ASSERT_GT(expected.Above.RemovedComponents, 4 * itk::SmallIsoComponentDetail::WorkTeam::MinimumItemsToShare)
+    ASSERT_GT(expected.Above.RemovedComponents, 4 * itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare)
       << "the volume no longer exercises a shared repair";
-    ASSERT_GT(expected.Below.RemovedComponents, 4 * itk::SmallIsoComponentDetail::WorkTeam::MinimumItemsToShare);
+    ASSERT_GT(expected.Below.RemovedComponents, 4 * itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare);
     for (const unsigned int workUnits : { 1u, 2u, 7u })
     {
       const auto filter = RunFilter<ImageType>(input, settings, workUnits);
@@ -192,9 +192,9 @@ TEST(SmallIsoComponentDifferential, DenseNoiseWithSharedNumbering3D)
   {
     runs += (i % extent[0] == 0 || (values[i] > 128) != (values[i - 1] > 128)) ? 1 : 0;
   }
-  ASSERT_GE(runs, itk::SmallIsoComponentDetail::RunLabeling::MinimumRunsToShareNumbering)
+  ASSERT_GE(runs, itk::SmallIsoComponentDetail::Tuning::MinimumRunsToShareNumbering)
     << "the volume no longer has the runs to share the numbering";
-  ASSERT_LE(2 * values.size(), itk::SmallIsoComponentImageFilter<ImageType>::FillBytesPerRunToShareNumbering * runs)
+  ASSERT_LE(2 * values.size(), itk::SmallIsoComponentDetail::Tuning::FillBytesPerRunToShareNumbering * runs)
     << "the output and the mask would be written beside a serial numbering";
   const auto input = MakeImage<uint8_t, 3>(extent, values);
   for (const auto side : { SideEnum::Both, SideEnum::Above })

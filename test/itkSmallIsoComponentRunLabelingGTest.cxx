@@ -372,8 +372,8 @@ CheckRandomVolume(RandomSource &                      random,
   // two lines (lines written again when they fell out, pairs in one slot merged): the same
   // numbering.
   using Linking = TestRunLabeling::LineLinking;
-  for (const auto & choice : { std::make_pair(Linking::Merge, RunLabeling::BitsCacheBytes),
-                               std::make_pair(Linking::Bits, RunLabeling::BitsCacheBytes),
+  for (const auto & choice : { std::make_pair(Linking::Merge, itk::SmallIsoComponentDetail::Tuning::BitsCacheBytes),
+                               std::make_pair(Linking::Bits, itk::SmallIsoComponentDetail::Tuning::BitsCacheBytes),
                                std::make_pair(Linking::Bits, SizeValueType{ 40 }),
                                std::make_pair(Linking::Bits, SizeValueType{ 1 }) })
   {

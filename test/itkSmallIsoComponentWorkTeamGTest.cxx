@@ -326,14 +326,16 @@ TEST(SmallIsoComponentWorkTeam, CheapLoopsAreSharedFromFewerItemsWhenHelpersAreA
   platform->SetNumberOfWorkUnits(3);
   const Team withoutHelpers(platform, 3);
   EXPECT_EQ(withoutHelpers.GetNumberOfChunks(0), 1u);
-  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(Team::MinimumItemsToShare - 1), 1u);
-  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(Team::MinimumItemsToShare), 3 * Team::ChunksPerWorkUnit);
+  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare - 1), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfChunks(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare),
+            3 * itk::SmallIsoComponentDetail::Tuning::ChunksPerWorkUnit);
   const Team alone(platform, 1);
-  EXPECT_EQ(alone.GetNumberOfChunks(Team::MinimumItemsToShare), Team::ChunksPerWorkUnit);
+  EXPECT_EQ(alone.GetNumberOfChunks(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare),
+            itk::SmallIsoComponentDetail::Tuning::ChunksPerWorkUnit);
   // Loops with state per part: one part per work unit where the loop is shared, else one.
-  EXPECT_EQ(withoutHelpers.GetNumberOfParts(Team::MinimumItemsToShare - 1), 1u);
-  EXPECT_EQ(withoutHelpers.GetNumberOfParts(Team::MinimumItemsToShare), 3u);
-  EXPECT_EQ(alone.GetNumberOfParts(Team::MinimumItemsToShare), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfParts(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare - 1), 1u);
+  EXPECT_EQ(withoutHelpers.GetNumberOfParts(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare), 3u);
+  EXPECT_EQ(alone.GetNumberOfParts(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShare), 1u);
   // The parts cover the items in order, without gaps or overlaps, and differ by one at most.
   for (const itk::SizeValueType items : { 0u, 1u, 7u, 1000u })
   {
@@ -357,8 +359,10 @@ TEST(SmallIsoComponentWorkTeam, CheapLoopsAreSharedFromFewerItemsWhenHelpersAreA
   {
     GTEST_SKIP() << "one core: the team has no helpers";
   }
-  EXPECT_EQ(withHelpers.GetNumberOfChunks(Team::MinimumItemsToShareWithHelpers - 1), 1u);
-  EXPECT_EQ(withHelpers.GetNumberOfChunks(Team::MinimumItemsToShareWithHelpers),
-            std::min<itk::SizeValueType>(Team::MinimumItemsToShareWithHelpers, 2 * Team::ChunksPerWorkUnit));
+  EXPECT_EQ(withHelpers.GetNumberOfChunks(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShareWithHelpers - 1),
+            1u);
+  EXPECT_EQ(withHelpers.GetNumberOfChunks(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShareWithHelpers),
+            std::min<itk::SizeValueType>(itk::SmallIsoComponentDetail::Tuning::MinimumItemsToShareWithHelpers,
+                                         2 * itk::SmallIsoComponentDetail::Tuning::ChunksPerWorkUnit));
   EXPECT_EQ(withHelpers.GetNumberOfChunks(40), 1u);
 }
