@@ -318,6 +318,18 @@ private:
   SettleNodes(std::vector<NodeType> &                      parent,
               std::vector<std::pair<NodeType, NodeType>> & touching,
               std::vector<Resolution> *                    resolutions);
+  /** SettleNodes()'s steps, over its working state. */
+  struct Settling;
+  void
+  DecideAbovePass(Settling & settling);
+  void
+  JoinFlippedToTouching(Settling & settling);
+  void
+  DecideBelowPass(Settling & settling);
+  void
+  KeepOpenNodes(Settling & settling);
+  void
+  Resolve(Settling & settling, const std::vector<uint8_t> & wasAbove, std::vector<Resolution> & resolutions) const;
 
   IndexType      m_ImageSize{};
   IndexType      m_Begin{};

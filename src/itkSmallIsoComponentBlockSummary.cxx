@@ -275,60 +275,112 @@ BlockSummary::Settle(std::vector<Resolution> * resolutions)
   this->SettleNodes(parent, touching, resolutions);
 }
 
-void
-BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
-                          std::vector<std::pair<NodeType, NodeType>> & touching,
-                          std::vector<Resolution> *                    resolutions)
+struct BlockSummary::Settling
 {
-  using SideEnum = SmallIsoComponentEnums::Side;
-  const SizeValueType nodes = parent.size();
-  const uint64_t      K = m_Rules.MaximumComponentSize;
-  const bool          both = m_Rules.Side == SideEnum::Both;
-  const bool          aboveProcessed = m_Rules.Side != SideEnum::Below;
-  const bool          belowProcessed = m_Rules.Side != SideEnum::Above;
+  Settling(std::vector<NodeType> & parentOfNode, std::vector<std::pair<NodeType, NodeType>> & touchingPairs)
+    : parent(parentOfNode)
+    , touching(touchingPairs)
+    , nodes(parentOfNode.size())
+    , root(nodes)
+    , aboveState(nodes, State::NotAbove)
+    , belowState(nodes, State::Open)
+    , blocked(nodes, 0)
+    , newNode(nodes, NoNode)
+  {}
 
-  std::vector<uint8_t> wasAbove(m_Above.begin(), m_Above.end());
-  // The faces hold many voxels per node: the roots are found once per node, not once per voxel.
-  std::vector<NodeType> root(nodes);
-  const auto            findRoots = [&]() {
+  NodeType
+  Root(NodeType node)
+  {
+    return FindRoot(parent.data(), node);
+  }
+
+  /** Marks the roots of the nodes on a face: their components may still grow. */
+  void
+  MarkOpen(const std::array<FaceLayer, 6> & faces)
+  {
+    // The faces hold many voxels per node: the roots are found once per node, not once per voxel.
     for (NodeType node = 0; node < nodes; ++node)
     {
-      root[node] = FindRoot(parent.data(), node);
+      root[node] = this->Root(node);
     }
-  };
-  const auto markOpen = [&](std::vector<uint8_t> & open) {
-    findRoots();
     open.assign(nodes, 0);
-    for (const auto & layer : m_Face)
+    for (const auto & layer : faces)
     {
       for (const FaceRun & run : layer.Runs)
       {
         open[root[run.Node]] = 1;
       }
     }
-  };
-  std::vector<uint8_t> open;
-  markOpen(open);
+  }
 
-  // The above pass: complete above components are final; open ones may still grow.
-  std::vector<State>    aboveState(nodes, State::NotAbove);
-  std::vector<NodeType> flipped;
-  for (NodeType node = 0; node < nodes; ++node)
+  std::vector<NodeType> &                      parent;
+  std::vector<std::pair<NodeType, NodeType>> & touching;
+  const SizeValueType                          nodes;
+  std::vector<NodeType>                        root;
+  std::vector<uint8_t>                         open;
+  std::vector<State>                           aboveState;
+  std::vector<State>                           belowState;
+  /** Below roots that an above component which may still be removed touches. */
+  std::vector<uint8_t> blocked;
+  /** Whether Side Both's below pass sees any removed above component as below. */
+  bool anyFlipped{ false };
+  /** Per root that stays, its node in the rebuilt summary; NoNode for the others. */
+  std::vector<NodeType> newNode;
+  /** The rebuilt summary's arrays, put in place once the resolutions are read. */
+  std::vector<uint64_t>                      keptSize;
+  std::vector<uint8_t>                       keptAbove;
+  std::vector<uint64_t>                      keptFlipped;
+  std::vector<std::pair<NodeType, NodeType>> keptTouching;
+};
+
+void
+BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
+                          std::vector<std::pair<NodeType, NodeType>> & touching,
+                          std::vector<Resolution> *                    resolutions)
+{
+  Settling                   settling(parent, touching);
+  const std::vector<uint8_t> wasAbove(m_Above.begin(), m_Above.end());
+  settling.MarkOpen(m_Face);
+  this->DecideAbovePass(settling);
+  if (settling.anyFlipped)
   {
-    if (parent[node] != node || !m_Above[node])
+    this->JoinFlippedToTouching(settling);
+    settling.MarkOpen(m_Face);
+  }
+  this->DecideBelowPass(settling);
+  this->KeepOpenNodes(settling);
+  if (resolutions != nullptr)
+  {
+    this->Resolve(settling, wasAbove, *resolutions);
+  }
+  m_Size.swap(settling.keptSize);
+  m_Above.swap(settling.keptAbove);
+  m_Flipped.swap(settling.keptFlipped);
+  m_Touching.swap(settling.keptTouching);
+}
+
+void
+BlockSummary::DecideAbovePass(Settling & settling)
+{
+  // Complete above components are final; open ones may still grow.
+  const bool aboveProcessed = m_Rules.Side != SmallIsoComponentEnums::Side::Below;
+  const bool both = m_Rules.Side == SmallIsoComponentEnums::Side::Both;
+  for (NodeType node = 0; node < settling.nodes; ++node)
+  {
+    if (settling.parent[node] != node || !m_Above[node])
     {
       continue;
     }
     const uint64_t size = m_Size[node];
-    const bool     small = aboveProcessed && size <= K;
-    if (open[node])
+    const bool     small = aboveProcessed && size <= m_Rules.MaximumComponentSize;
+    if (settling.open[node])
     {
-      aboveState[node] = small && m_Rules.AnyBelow ? State::Open : State::Kept;
+      settling.aboveState[node] = small && m_Rules.AnyBelow ? State::Open : State::Kept;
       continue;
     }
     const bool removed = small && m_Rules.AnyBelow;
     m_Tally.Above.Add(size, removed);
-    aboveState[node] = removed ? State::Removed : State::Kept;
+    settling.aboveState[node] = removed ? State::Removed : State::Kept;
     if (removed)
     {
       m_Tally.ModifiedVoxels += size;
@@ -337,7 +389,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
         // As the below pass sees it, the component is below now.
         m_Above[node] = 0;
         m_Flipped[node] = size;
-        flipped.push_back(node);
+        settling.anyFlipped = true;
       }
     }
     else if (small)
@@ -345,64 +397,61 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
       m_Tally.UnrepairableVoxels += size;
     }
   }
+}
 
+void
+BlockSummary::JoinFlippedToTouching(Settling & settling)
+{
   // A removed above component joins the below components it touches.
-  const auto join = [&](NodeType a, NodeType b) {
-    if (JoinRoots(parent.data(), a, b))
+  std::vector<std::pair<NodeType, NodeType>> joins;
+  for (const auto & pair : settling.touching)
+  {
+    const NodeType above = settling.Root(pair.first);
+    if (settling.aboveState[above] == State::Removed)
+    {
+      joins.emplace_back(above, pair.second);
+    }
+  }
+  for (auto [a, b] : joins)
+  {
+    if (JoinRoots(settling.parent.data(), a, b))
     {
       m_Size[a] += m_Size[b];
       m_Flipped[a] += m_Flipped[b];
     }
-  };
-  if (!flipped.empty())
-  {
-    std::vector<std::pair<NodeType, NodeType>> joins;
-    for (const auto & pair : touching)
-    {
-      const NodeType above = FindRoot(parent.data(), pair.first);
-      if (aboveState[above] == State::Removed)
-      {
-        joins.emplace_back(above, pair.second);
-      }
-    }
-    for (const auto & pair : joins)
-    {
-      join(pair.first, pair.second);
-    }
   }
+}
 
-  // The below pass: a below component (with the removed above ones joined to it) is final when
-  // it is complete and no above component that may still be removed touches it.
-  if (!flipped.empty())
+void
+BlockSummary::DecideBelowPass(Settling & settling)
+{
+  // A below component (with the removed above ones joined to it) is final when it is complete
+  // and no above component that may still be removed touches it.
+  for (const auto & pair : settling.touching)
   {
-    markOpen(open);
-  }
-  std::vector<uint8_t> blocked(nodes, 0);
-  for (const auto & pair : touching)
-  {
-    const NodeType above = FindRoot(parent.data(), pair.first);
-    if (m_Above[above] && aboveState[above] == State::Open)
+    const NodeType above = settling.Root(pair.first);
+    if (m_Above[above] && settling.aboveState[above] == State::Open)
     {
-      blocked[FindRoot(parent.data(), pair.second)] = 1;
+      settling.blocked[settling.Root(pair.second)] = 1;
     }
   }
-  std::vector<State> belowState(nodes, State::Open);
-  for (NodeType node = 0; node < nodes; ++node)
+  const bool belowProcessed = m_Rules.Side != SmallIsoComponentEnums::Side::Above;
+  for (NodeType node = 0; node < settling.nodes; ++node)
   {
-    if (parent[node] != node || m_Above[node])
+    if (settling.parent[node] != node || m_Above[node])
     {
       continue;
     }
     const uint64_t size = m_Size[node];
-    const bool     small = belowProcessed && size <= K;
-    if (open[node] || blocked[node])
+    const bool     small = belowProcessed && size <= m_Rules.MaximumComponentSize;
+    if (settling.open[node] || settling.blocked[node])
     {
-      belowState[node] = small && m_Rules.AnyAbove ? State::Open : State::Kept;
+      settling.belowState[node] = small && m_Rules.AnyAbove ? State::Open : State::Kept;
       continue;
     }
     const bool removed = small && m_Rules.AnyAbove;
     m_Tally.Below.Add(size, removed);
-    belowState[node] = removed ? State::Removed : State::Kept;
+    settling.belowState[node] = removed ? State::Removed : State::Kept;
     if (removed)
     {
       m_Tally.ModifiedVoxels += size - m_Flipped[node];
@@ -412,30 +461,30 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
       m_Tally.UnrepairableVoxels += size;
     }
   }
+}
 
+void
+BlockSummary::KeepOpenNodes(Settling & settling)
+{
   // What stays: open above components, and below components that are open or waiting.
-  std::vector<NodeType> newNode(nodes, NoNode);
-  std::vector<uint64_t> size;
-  std::vector<uint8_t>  above;
-  std::vector<uint64_t> flippedVoxels;
-  for (NodeType node = 0; node < nodes; ++node)
+  for (NodeType node = 0; node < settling.nodes; ++node)
   {
-    if (parent[node] != node)
+    if (settling.parent[node] != node)
     {
       continue;
     }
-    const bool stays = m_Above[node] ? open[node] != 0 : (open[node] != 0 || blocked[node] != 0);
-    if (stays)
+    const bool open = settling.open[node] != 0;
+    if (m_Above[node] ? open : (open || settling.blocked[node] != 0))
     {
-      newNode[node] = static_cast<NodeType>(size.size());
-      size.push_back(m_Size[node]);
-      above.push_back(m_Above[node]);
-      flippedVoxels.push_back(m_Flipped[node]);
+      settling.newNode[node] = static_cast<NodeType>(settling.keptSize.size());
+      settling.keptSize.push_back(m_Size[node]);
+      settling.keptAbove.push_back(m_Above[node]);
+      settling.keptFlipped.push_back(m_Flipped[node]);
     }
   }
-  for (NodeType node = 0; node < nodes; ++node)
+  for (NodeType node = 0; node < settling.nodes; ++node)
   {
-    root[node] = newNode[FindRoot(parent.data(), node)];
+    settling.root[node] = settling.newNode[settling.Root(node)];
   }
   // The faces in the new numbering; runs of one component that are now side by side are one.
   for (auto & layer : m_Face)
@@ -453,7 +502,7 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
       layer.RowBegin[row] = kept;
       for (SizeValueType run = first; run < last; ++run)
       {
-        const NodeType node = root[layer.Runs[run].Node];
+        const NodeType node = settling.root[layer.Runs[run].Node];
         if (run == first || layer.Runs[kept - 1].Node != node)
         {
           layer.Runs[kept++] = { layer.Runs[run].Column, node };
@@ -463,51 +512,48 @@ BlockSummary::SettleNodes(std::vector<NodeType> &                      parent,
     layer.RowBegin[rows] = kept;
     layer.Runs.resize(kept);
   }
-  std::vector<std::pair<NodeType, NodeType>> keptTouching;
-  for (const auto & pair : touching)
+  auto & kept = settling.keptTouching;
+  for (const auto & pair : settling.touching)
   {
-    const NodeType a = FindRoot(parent.data(), pair.first);
-    if (m_Above[a] && aboveState[a] == State::Open)
+    const NodeType a = settling.Root(pair.first);
+    if (m_Above[a] && settling.aboveState[a] == State::Open)
     {
-      keptTouching.emplace_back(newNode[a], newNode[FindRoot(parent.data(), pair.second)]);
+      kept.emplace_back(settling.newNode[a], settling.newNode[settling.Root(pair.second)]);
     }
   }
-  std::sort(keptTouching.begin(), keptTouching.end());
-  keptTouching.erase(std::unique(keptTouching.begin(), keptTouching.end()), keptTouching.end());
+  std::sort(kept.begin(), kept.end());
+  kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+}
 
-  if (resolutions != nullptr)
+void
+BlockSummary::Resolve(Settling &                   settling,
+                      const std::vector<uint8_t> & wasAbove,
+                      std::vector<Resolution> &    resolutions) const
+{
+  resolutions.resize(settling.nodes);
+  for (NodeType node = 0; node < settling.nodes; ++node)
   {
-    resolutions->resize(nodes);
-    for (NodeType node = 0; node < nodes; ++node)
+    const NodeType root = settling.Root(node);
+    Resolution &   resolution = resolutions[node];
+    if (wasAbove[node])
     {
-      const NodeType root = FindRoot(parent.data(), node);
-      Resolution &   resolution = (*resolutions)[node];
-      if (wasAbove[node])
+      // The above component's root before any join into a below component.
+      if (m_Above[root])
       {
-        // The above component's root before any join into a below component.
-        const NodeType aboveRoot = m_Above[root] ? root : NoNode;
-        if (aboveRoot != NoNode)
-        {
-          resolution.AbovePass = aboveState[root];
-          resolution.BelowPass = State::Kept;
-          resolution.Node = aboveState[root] == State::Open ? newNode[root] : NoNode;
-          continue;
-        }
-        resolution.AbovePass = State::Removed;
+        resolution.AbovePass = settling.aboveState[root];
+        resolution.BelowPass = State::Kept;
+        resolution.Node = settling.aboveState[root] == State::Open ? settling.newNode[root] : NoNode;
+        continue;
       }
-      else
-      {
-        resolution.AbovePass = State::NotAbove;
-      }
-      resolution.BelowPass = belowState[root];
-      resolution.Node = belowState[root] == State::Open ? newNode[root] : NoNode;
+      resolution.AbovePass = State::Removed;
     }
+    else
+    {
+      resolution.AbovePass = State::NotAbove;
+    }
+    resolution.BelowPass = settling.belowState[root];
+    resolution.Node = settling.belowState[root] == State::Open ? settling.newNode[root] : NoNode;
   }
-
-  m_Size.swap(size);
-  m_Above.swap(above);
-  m_Flipped.swap(flippedVoxels);
-  m_Touching.swap(keptTouching);
 }
 
 BlockSummary
