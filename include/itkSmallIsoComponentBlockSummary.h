@@ -318,6 +318,18 @@ private:
   SettleNodes(std::vector<NodeType> &                      parent,
               std::vector<std::pair<NodeType, NodeType>> & touching,
               std::vector<Resolution> *                    resolutions);
+  /** Merge()'s steps: the axis along which \a upper follows \a lower (or an exception), the faces
+   * of their union, and the joins of the components that touch across their shared face. */
+  static unsigned int
+  SharedFaceAxis(const BlockSummary & lower, const BlockSummary & upper);
+  void
+  SetUnionFaces(const BlockSummary & lower, const BlockSummary & upper, unsigned int axis);
+  void
+  JoinAcrossFace(const BlockSummary &                         lower,
+                 const BlockSummary &                         upper,
+                 unsigned int                                 axis,
+                 std::vector<NodeType> &                      parent,
+                 std::vector<std::pair<NodeType, NodeType>> & touching);
   /** SettleNodes()'s steps, over its working state. */
   struct Settling;
   void

@@ -566,28 +566,7 @@ BlockSummary::Merge(const BlockSummary &      lower,
   {
     itkGenericExceptionMacro("BlockSummary::Merge: the two boxes belong to images of different sizes");
   }
-  unsigned int axis = 3;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    if (lower.m_End[a] == upper.m_Begin[a] && lower.m_Begin[a] < upper.m_Begin[a])
-    {
-      bool othersMatch = true;
-      for (unsigned int b = 0; b < 3; ++b)
-      {
-        othersMatch =
-          othersMatch && (b == a || (lower.m_Begin[b] == upper.m_Begin[b] && lower.m_End[b] == upper.m_End[b]));
-      }
-      if (othersMatch)
-      {
-        axis = a;
-      }
-    }
-  }
-  if (axis == 3)
-  {
-    itkGenericExceptionMacro("BlockSummary::Merge: the upper box does not start where the lower one ends along one "
-                             "axis with the same range along the others");
-  }
+  const unsigned int axis = SharedFaceAxis(lower, upper);
 
   BlockSummary merged;
   merged.m_ImageSize = lower.m_ImageSize;
@@ -615,7 +594,55 @@ BlockSummary::Merge(const BlockSummary &      lower,
   {
     touching.emplace_back(pair.first + offset, pair.second + offset);
   }
+  merged.SetUnionFaces(lower, upper, axis);
+  merged.JoinAcrossFace(lower, upper, axis, parent, touching);
 
+  std::vector<Resolution> resolutions;
+  merged.SettleNodes(
+    parent, touching, lowerResolutions != nullptr || upperResolutions != nullptr ? &resolutions : nullptr);
+  if (lowerResolutions != nullptr)
+  {
+    lowerResolutions->assign(resolutions.begin(), resolutions.begin() + offset);
+  }
+  if (upperResolutions != nullptr)
+  {
+    upperResolutions->assign(resolutions.begin() + offset, resolutions.end());
+  }
+  return merged;
+}
+
+unsigned int
+BlockSummary::SharedFaceAxis(const BlockSummary & lower, const BlockSummary & upper)
+{
+  unsigned int axis = 3;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    if (lower.m_End[a] == upper.m_Begin[a] && lower.m_Begin[a] < upper.m_Begin[a])
+    {
+      bool othersMatch = true;
+      for (unsigned int b = 0; b < 3; ++b)
+      {
+        othersMatch =
+          othersMatch && (b == a || (lower.m_Begin[b] == upper.m_Begin[b] && lower.m_End[b] == upper.m_End[b]));
+      }
+      if (othersMatch)
+      {
+        axis = a;
+      }
+    }
+  }
+  if (axis == 3)
+  {
+    itkGenericExceptionMacro("BlockSummary::Merge: the upper box does not start where the lower one ends along one "
+                             "axis with the same range along the others");
+  }
+  return axis;
+}
+
+void
+BlockSummary::SetUnionFaces(const BlockSummary & lower, const BlockSummary & upper, unsigned int axis)
+{
+  const auto offset = static_cast<NodeType>(lower.m_Size.size());
   // The faces of the union: along the merge axis the outer faces of the two boxes, along the
   // others the two layers side by side.
   const auto upperLayer = [offset](FaceLayer layer) {
@@ -625,8 +652,8 @@ BlockSummary::Merge(const BlockSummary &      lower,
     }
     return layer;
   };
-  merged.m_Face[FaceIndex(axis, false)] = lower.m_Face[FaceIndex(axis, false)];
-  merged.m_Face[FaceIndex(axis, true)] = upperLayer(upper.m_Face[FaceIndex(axis, true)]);
+  m_Face[FaceIndex(axis, false)] = lower.m_Face[FaceIndex(axis, false)];
+  m_Face[FaceIndex(axis, true)] = upperLayer(upper.m_Face[FaceIndex(axis, true)]);
   for (unsigned int b = 0; b < 3; ++b)
   {
     if (b == axis)
@@ -678,17 +705,26 @@ BlockSummary::Merge(const BlockSummary &      lower,
         }
         layer.EndLayer();
       }
-      merged.m_Face[FaceIndex(b, side)] = std::move(layer);
+      m_Face[FaceIndex(b, side)] = std::move(layer);
     }
   }
+}
 
+void
+BlockSummary::JoinAcrossFace(const BlockSummary &                         lower,
+                             const BlockSummary &                         upper,
+                             unsigned int                                 axis,
+                             std::vector<NodeType> &                      parent,
+                             std::vector<std::pair<NodeType, NodeType>> & touching)
+{
+  const auto offset = static_cast<NodeType>(lower.m_Size.size());
   // Join the components that touch across the shared face; note which above components that
   // may be small touch which below ones there.
   const FaceLayer &   lowFace = lower.m_Face[FaceIndex(axis, true)];
   const FaceLayer &   highFace = upper.m_Face[FaceIndex(axis, false)];
   const SizeValueType width = lower.FaceRowWidth(axis);
   const SizeValueType height = lower.FaceRows(axis);
-  const int           reach = merged.m_Rules.FullyConnected ? 1 : 0;
+  const int           reach = m_Rules.FullyConnected ? 1 : 0;
   NodeType            lastA = NoNode;
   NodeType            lastB = NoNode;
   const auto          link = [&](NodeType a, NodeType b) {
@@ -698,21 +734,21 @@ BlockSummary::Merge(const BlockSummary &      lower,
     }
     lastA = a;
     lastB = b;
-    if (merged.m_Above[a] == merged.m_Above[b])
+    if (m_Above[a] == m_Above[b])
     {
       NodeType ra = a;
       NodeType rb = b;
       if (JoinRoots(parent.data(), ra, rb))
       {
-        merged.m_Size[ra] += merged.m_Size[rb];
-        merged.m_Flipped[ra] += merged.m_Flipped[rb];
+        m_Size[ra] += m_Size[rb];
+        m_Flipped[ra] += m_Flipped[rb];
       }
     }
     else
     {
-      const NodeType above = merged.m_Above[a] ? a : b;
-      const NodeType below = merged.m_Above[a] ? b : a;
-      if (merged.NeedsTouching(merged.m_Size[above]))
+      const NodeType above = m_Above[a] ? a : b;
+      const NodeType below = m_Above[a] ? b : a;
+      if (this->NeedsTouching(m_Size[above]))
       {
         touching.emplace_back(above, below);
       }
@@ -746,19 +782,6 @@ BlockSummary::Merge(const BlockSummary &      lower,
       }
     }
   }
-
-  std::vector<Resolution> resolutions;
-  merged.SettleNodes(
-    parent, touching, lowerResolutions != nullptr || upperResolutions != nullptr ? &resolutions : nullptr);
-  if (lowerResolutions != nullptr)
-  {
-    lowerResolutions->assign(resolutions.begin(), resolutions.begin() + offset);
-  }
-  if (upperResolutions != nullptr)
-  {
-    upperResolutions->assign(resolutions.begin() + offset, resolutions.end());
-  }
-  return merged;
 }
 
 namespace
