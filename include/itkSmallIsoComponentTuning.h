@@ -51,7 +51,8 @@ constexpr SizeValueType FillBytesPerRunToShareNumbering = 16;
  * ones balance the two ends better. */
 constexpr SizeValueType LinesPerClaim = 64;
 
-/** Lines numbered between two progress reports and abort checks. */
+/** Lines the first stage of a shared numbering numbers between two publications of how far it
+ * got, which the second stage waits on: fewer atomic stores against a longer wait. */
 constexpr SizeValueType NumberingLinesPerStep = 16;
 
 /** Runs the collection of candidate runs buffers before it appends them to its vector: one
@@ -82,16 +83,16 @@ constexpr SizeValueType PrefetchRunsAhead = 8;
  * PrefetchRunsAhead, so that they have arrived when their runs are requested. */
 constexpr SizeValueType PrefetchLineTablesAhead = 2 * PrefetchRunsAhead;
 
-/** Output and mask bytes per block of the deferred fill: blocks of a size work units can share
- * evenly, each large enough for streaming stores to pay. */
+/** Output and mask bytes per block of the deferred fill, the unit its work units take:
+ * smaller blocks share the fill more evenly, larger ones cost fewer hand-outs. */
 constexpr SizeValueType FillBlockBytes = SizeValueType{ 256 } << 10;
 
 /** Output and mask bytes from which they are written with streaming stores (twice a core's
  * second-level cache): they would not stay cached, and streaming skips reading each line. */
 constexpr SizeValueType StreamingThresholdInBytes = SizeValueType{ 4 } << 20;
 
-/** Bytes from which arrays are asked for huge pages: one fault per 2 MiB instead of 512,
- * against up to 2 MiB of memory touched that a smaller array would not. */
+/** Bytes from which arrays are asked for huge pages: far fewer page faults, against memory
+ * touched at the end of the last huge page that a smaller array would not touch. */
 constexpr SizeValueType LargeBlockBytes = SizeValueType{ 4 } << 20;
 
 /** Slabs a sweep keeps with their arrays for the next slab: fewer allocations against the
