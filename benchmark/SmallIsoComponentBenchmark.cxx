@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 
-// SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [DATA_DIR]
+// SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [--smalliso-only] [DATA_DIR]
 //
 // Measures, in one process and interleaved, the median wall time of the filter and of its
 // peers on real and synthetic volumes, and prints their ratios. See docs/performance.md.
@@ -333,7 +333,9 @@ struct Options
   std::string  Json;
   unsigned int Repeat{ 5 };
   bool         Small{ false };
-  std::string  DataDir;
+  /** --smalliso-only: times smalliso and memcpy alone, for comparing two builds of the filter. */
+  bool        SmallIsoOnly{ false };
+  std::string DataDir;
   /** Names of the volumes to measure (--only); empty: all of them. */
   std::vector<std::string> Only;
 
@@ -430,15 +432,24 @@ public:
           phases[{ peer, threads }].push_back(PhaseMs(*filter));
         }
 
+        if (m_Options.SmallIsoOnly)
+        {
+          continue;
+        }
         times[{ "itk-cc-relabel", threads }].push_back(
           TimeAfterWarmUp([&] { threshold[threads]->Modified(); }, [&] { relabel[threads]->Update(); }));
         extra[{ "itk-cc-relabel", threads }] = voxels * (sizeof(uint8_t) + 2 * sizeof(uint32_t));
       }
 
-      times[{ "voxel-union-find", 1 }].push_back(TimeAfterWarmUp(
-        [&] { std::copy(input->GetBufferPointer(), input->GetBufferPointer() + voxels, voxelUnionFindOutput.begin()); },
-        [&] { peer.Run(voxelUnionFindOutput.data(), size, isoValue, MaximumSize); }));
-      extra[{ "voxel-union-find", 1 }] = peer.ExtraBytes();
+      if (!m_Options.SmallIsoOnly)
+      {
+        times[{ "voxel-union-find", 1 }].push_back(TimeAfterWarmUp(
+          [&] {
+            std::copy(input->GetBufferPointer(), input->GetBufferPointer() + voxels, voxelUnionFindOutput.begin());
+          },
+          [&] { peer.Run(voxelUnionFindOutput.data(), size, isoValue, MaximumSize); }));
+        extra[{ "voxel-union-find", 1 }] = peer.ExtraBytes();
+      }
 
       times[{ "memcpy", 1 }].push_back(TimeAfterWarmUp(
         [] {}, [&] { std::memcpy(copy->GetBufferPointer(), input->GetBufferPointer(), voxels * sizeof(T)); }));
@@ -455,12 +466,16 @@ public:
               << smallIso[most]->GetNumberOfModifiedVoxels() << std::endl;
 
     // The peers that do the same job must agree to the voxel.
-    if (!std::equal(voxelUnionFindOutput.begin(), voxelUnionFindOutput.end(), smallIsoOutput->GetBufferPointer()))
+    if (m_Options.SmallIsoOnly)
+    {
+      std::cerr << "    (--smalliso-only: not checked against the peers)" << std::endl;
+    }
+    else if (!std::equal(voxelUnionFindOutput.begin(), voxelUnionFindOutput.end(), smallIsoOutput->GetBufferPointer()))
     {
       std::cerr << "ERROR: smalliso and voxel-union-find disagree on " << name << std::endl;
       m_Failed = true;
     }
-    if (ccRemovedAbove != smallIsoRemovedAbove)
+    if (!m_Options.SmallIsoOnly && ccRemovedAbove != smallIsoRemovedAbove)
     {
       std::cerr << "ERROR: smalliso removed " << smallIsoRemovedAbove << " above components on " << name
                 << ", itk-cc-relabel dropped " << ccRemovedAbove << std::endl;
@@ -639,13 +654,15 @@ Read(const std::string & path)
 int
 Usage(std::ostream & os, int status)
 {
-  os << "Usage: SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small] [DATA_DIR]\n"
+  os << "Usage: SmallIsoComponentBenchmark [--json FILE] [--repeat N] [--only NAMES] [--small]\n"
+        "                                  [--smalliso-only] [DATA_DIR]\n"
         "Times smalliso (Side Both, and Side Above as smalliso-above; K = 20, face connectivity) against\n"
         "itk-cc-relabel, voxel-union-find and memcpy on every volume of DATA_DIR (default ../shared/data,\n"
         "if present) and on synthetic volumes, and prints medians, ratios, page faults and the median time\n"
         "of each of smalliso's phases. Each timed run follows an untimed run of the same peer at the same\n"
         "thread count. --only aneurism,lobster measures only the volumes named (real\n"
         "or synthetic, as the table names them). --small uses two small synthetic volumes only (a smoke test).\n"
+        "--smalliso-only times smalliso and memcpy alone, unchecked: for comparing two builds of the filter.\n"
         "Exit status 1 if smalliso and voxel-union-find disagree, 2 on bad arguments.\n";
   return status;
 }
@@ -689,6 +706,10 @@ main(int argc, char * argv[])
                   << "'\n";
         return 2;
       }
+    }
+    else if (argument == "--smalliso-only")
+    {
+      options.SmallIsoOnly = true;
     }
     else if (argument == "--small")
     {
