@@ -71,170 +71,217 @@ BelowGrouping::GetScratchBytes() const
   return m_Capacity * sizeof(std::atomic<ComponentIndexType>);
 }
 
+namespace
+{
+/** Joins the component of each flipped run with the below components it touches: the runs
+ * beside it in its line (runs alternate sides, so those are below) and the below runs it
+ * overlaps in the neighbouring lines. The neighbouring lines' runs are found from their
+ * boundary bits (\a VByBits) or by a search of the run starts. Everything is forced inline:
+ * the walk passes GCC's inlining limits and would otherwise become calls. */
+template <bool VByBits>
+class FlippedRunJoins
+{
+public:
+  using ComponentIndexType = BelowGrouping::ComponentIndexType;
+  using LineRun = BelowGrouping::LineRun;
+
+  SMALLISO_ALWAYS_INLINE
+  FlippedRunJoins(const RunLabeling & labeling, std::atomic<ComponentIndexType> * parent)
+    : m_Table(labeling.GetRunTable())
+    , m_Neighbors(labeling.GetLineNeighbors())
+    , m_Parent(parent)
+    , m_Allowance(labeling.IsFullyConnected() ? 1 : 0)
+    , m_Lines(labeling.GetNumberOfLines())
+    , m_Plane(labeling.GetSize().size() > 1 ? labeling.GetSize()[1] : 1)
+    , m_PerVoxel(1.0 / static_cast<double>(m_Table.LineLength))
+  {}
+
+  SMALLISO_ALWAYS_INLINE void
+  JoinRun(const LineRun & flippedRun)
+  {
+    const SizeValueType      run = flippedRun.Run;
+    const SizeValueType      line = flippedRun.Line;
+    const ComponentIndexType flipped = m_Table.Component[run];
+    if (run > m_Table.LineBegin[line])
+    {
+      this->Join(flipped, m_Table.Component[run - 1]);
+    }
+    if (run + 1 < m_Table.LineBegin[line + 1])
+    {
+      this->Join(flipped, m_Table.Component[run + 1]);
+    }
+    // With full connectivity a run also touches the runs that end just before it or start
+    // just after it in the neighbouring lines.
+    const SizeValueType start = m_Table.Start[run];
+    const SizeValueType from = start >= m_Allowance ? start - m_Allowance : 0;
+    const SizeValueType to = m_Table.End(run, line) + m_Allowance;
+    m_Neighbors.MoveTo(m_Position, line);
+    m_Neighbors.ForEachNeighbor(m_Position, [&](SizeValueType other) SMALLISO_LAMBDA_ALWAYS_INLINE {
+      this->JoinOverlapping(flipped, other, from, to);
+    });
+  }
+
+  /** Requests the run \a ahead and where its line's and the neighbouring planes' runs (and
+   * bits) begin, a few runs before PrefetchRuns() of the same run needs them. */
+  SMALLISO_ALWAYS_INLINE void
+  PrefetchLines(const LineRun & ahead) const
+  {
+    Prefetch(m_Table.Start + ahead.Run);
+    Prefetch(m_Table.Component + ahead.Run);
+    this->PrefetchLine(ahead.Line);
+    if (ahead.Line >= m_Plane)
+    {
+      this->PrefetchLine(ahead.Line - m_Plane);
+    }
+    if (ahead.Line + m_Plane < m_Lines)
+    {
+      this->PrefetchLine(ahead.Line + m_Plane);
+    }
+  }
+
+  /** Requests the neighbouring lines' runs near where the start of \a ahead falls if runs
+   * were spread evenly along the line, where the search for the run holding it looks first. */
+  SMALLISO_ALWAYS_INLINE void
+  PrefetchRuns(const LineRun & ahead) const
+  {
+    const SizeValueType line = ahead.Line;
+    const SizeValueType start = m_Table.Start[ahead.Run];
+    const SizeValueType from = start >= m_Allowance ? start - m_Allowance : 0;
+    if (line >= m_Plane)
+    {
+      this->PrefetchRunsNear(line - m_Plane, from);
+    }
+    if (line + m_Plane < m_Lines)
+    {
+      this->PrefetchRunsNear(line + m_Plane, from);
+    }
+    if (line >= 1)
+    {
+      this->PrefetchRunsNear(line - 1, from);
+    }
+    if (line + 1 < m_Lines)
+    {
+      this->PrefetchRunsNear(line + 1, from);
+    }
+  }
+
+private:
+  /** Joins the two components, unless they are the previous pair. */
+  SMALLISO_ALWAYS_INLINE void
+  Join(ComponentIndexType flipped, ComponentIndexType below)
+  {
+    if (flipped != m_LastFlipped || below != m_LastBelow)
+    {
+      m_LastFlipped = flipped;
+      m_LastBelow = below;
+      JoinShared(m_Parent, flipped, below);
+    }
+  }
+
+  /** Joins \a flipped with the below runs of line \a other that overlap [from, to): sides
+   * alternate, so every other run from the run that holds from if it is below, else from the
+   * run after it, up to the run that holds to - 1. With the lines' boundary bits, a run's index
+   * is its line's first run plus the count of the line's boundaries up to it, less one, and
+   * the run starts (four bytes a run, where the bits are a bit a voxel) are not read. */
+  SMALLISO_ALWAYS_INLINE void
+  JoinOverlapping(ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to)
+  {
+    const SizeValueType * const lineBegin = m_Table.LineBegin;
+    SizeValueType               below;
+    SizeValueType               end;
+    if constexpr (VByBits)
+    {
+      const uint64_t * const bits = m_Table.Bits + other * m_Table.BitsWords;
+      const SizeValueType    lastVoxel = std::min(to, m_Table.LineLength) - 1;
+      SizeValueType          word = 0;
+      SizeValueType          count = lineBegin[other] - 1;
+      for (; word < from / 64; ++word)
+      {
+        count += CountBits(bits[word]);
+      }
+      below = count + CountBits(bits[word] & BitsUpTo(from % 64));
+      for (; word < lastVoxel / 64; ++word)
+      {
+        count += CountBits(bits[word]);
+      }
+      end = count + CountBits(bits[word] & BitsUpTo(lastVoxel % 64)) + 1;
+    }
+    else
+    {
+      // (A line of a few runs is searched whole.)
+      below = lineBegin[other + 1] - lineBegin[other] > 2 * Tuning::NearRuns
+                ? m_Table.RunHolding(other, from, m_Table.GuessRunHolding(other, from, m_PerVoxel))
+                : m_Table.RunHolding(other, from);
+      end = lineBegin[other + 1];
+    }
+    below += m_Table.IsAbove(below, other) ? 1 : 0;
+    for (; below < end && (VByBits || m_Table.Start[below] < to); below += 2)
+    {
+      this->Join(flipped, m_Table.Component[below]);
+    }
+  }
+
+  SMALLISO_ALWAYS_INLINE void
+  PrefetchLine(SizeValueType line) const
+  {
+    Prefetch(m_Table.LineBegin + line);
+    Prefetch(m_Table.LineFirstAbove + line);
+    if constexpr (VByBits)
+    {
+      Prefetch(m_Table.Bits + line * m_Table.BitsWords);
+    }
+  }
+
+  SMALLISO_ALWAYS_INLINE void
+  PrefetchRunsNear(SizeValueType other, SizeValueType from) const
+  {
+    constexpr SizeValueType near = Tuning::NearRuns;
+    const SizeValueType     guess = m_Table.GuessRunHolding(other, from, m_PerVoxel);
+    const SizeValueType     low = guess >= near ? guess - near : 0;
+    if constexpr (!VByBits)
+    {
+      Prefetch(m_Table.Start + low);
+      Prefetch(m_Table.Start + guess);
+      Prefetch(m_Table.Start + guess + near);
+    }
+    Prefetch(m_Table.Component + low);
+    Prefetch(m_Table.Component + guess);
+    Prefetch(m_Table.Component + guess + near);
+  }
+
+  const RunLabeling::RunTable       m_Table;
+  const LineNeighbors &             m_Neighbors;
+  LineNeighbors::Position           m_Position;
+  std::atomic<ComponentIndexType> * m_Parent;
+  const SizeValueType               m_Allowance;
+  const SizeValueType               m_Lines;
+  const SizeValueType               m_Plane;
+  const double                      m_PerVoxel;
+  ComponentIndexType                m_LastFlipped{ BelowGrouping::NoGroup };
+  ComponentIndexType                m_LastBelow{ BelowGrouping::NoGroup };
+};
+} // namespace
+
 template <bool VByBits>
 SMALLISO_ALWAYS_INLINE void
 BelowGrouping::JoinNeighborsOf(const LineRun * first, const LineRun * last)
 {
-  // Each flipped run touches the runs beside it in its line (runs alternate sides, so
-  // those are below) and the below runs it overlaps in the neighbouring lines; its
-  // component joins theirs. A repeat of the previous pair is skipped.
-  using CoordinateType = RunLabeling::CoordinateType;
-  const RunLabeling::RunTable      table = m_Labeling->GetRunTable();
-  const CoordinateType * const     runStart = table.Start;
-  const ComponentIndexType * const component = table.Component;
-  const SizeValueType * const      lineRunBegin = table.LineBegin;
-  const uint8_t * const            lineFirstAbove = table.LineFirstAbove;
-  const LineNeighbors &            neighbors = m_Labeling->GetLineNeighbors();
-  LineNeighbors::Position          position;
-  // With full connectivity a run also touches the runs that end just before it or start
-  // just after it in the neighbouring lines.
-  const SizeValueType allowance = m_Labeling->IsFullyConnected() ? 1 : 0;
-  ComponentIndexType  lastFlipped = NoGroup;
-  ComponentIndexType  lastBelow = NoGroup;
-  const auto          join = [&](ComponentIndexType flipped, ComponentIndexType below) {
-    if (flipped != lastFlipped || below != lastBelow)
-    {
-      lastFlipped = flipped;
-      lastBelow = below;
-      JoinShared(m_Parent.get(), flipped, below);
-    }
-  };
-  const SizeValueType lines = m_Labeling->GetNumberOfLines();
-  const SizeValueType plane = m_Labeling->GetSize().size() > 1 ? m_Labeling->GetSize()[1] : 1;
-  const double        perVoxel = 1.0 / static_cast<double>(table.LineLength);
-  // The below runs of line \a other that overlap [from, to): sides alternate, so every
-  // other run from the run that holds from if it is below, else from the run after it, up
-  // to the run that holds to - 1. With the lines' boundary bits, a run's index is its
-  // line's first run plus the count of the line's boundaries up to it, less one, and the
-  // run starts (four bytes a run, where the bits are a bit a voxel) are not read.
-  const auto joinOverlapping =
-    [&](ComponentIndexType flipped, SizeValueType other, SizeValueType from, SizeValueType to)
-      SMALLISO_LAMBDA_ALWAYS_INLINE {
-        SizeValueType below;
-        SizeValueType end;
-        if constexpr (VByBits)
-        {
-          const uint64_t * const bits = table.Bits + other * table.BitsWords;
-          const SizeValueType    lastVoxel = std::min(to, table.LineLength) - 1;
-          SizeValueType          word = 0;
-          SizeValueType          count = lineRunBegin[other] - 1;
-          for (; word < from / 64; ++word)
-          {
-            count += CountBits(bits[word]);
-          }
-          below = count + CountBits(bits[word] & BitsUpTo(from % 64));
-          for (; word < lastVoxel / 64; ++word)
-          {
-            count += CountBits(bits[word]);
-          }
-          end = count + CountBits(bits[word] & BitsUpTo(lastVoxel % 64)) + 1;
-        }
-        else
-        {
-          // (A line of a few runs is searched whole.)
-          below = lineRunBegin[other + 1] - lineRunBegin[other] > 2 * Tuning::NearRuns
-                    ? table.RunHolding(other, from, table.GuessRunHolding(other, from, perVoxel))
-                    : table.RunHolding(other, from);
-          end = lineRunBegin[other + 1];
-        }
-        below += table.IsAbove(below, other) ? 1 : 0;
-        for (; below < end && (VByBits || runStart[below] < to); below += 2)
-        {
-          join(flipped, component[below]);
-        }
-      };
-  // The runs ahead and their neighbouring lines are requested early: first the run itself
-  // and where the lines' runs (and bits) begin, then (a few runs later, once that has
-  // arrived) the lines' runs near where the run's start falls if runs were spread evenly
-  // along the line, where the search for the run that holds it looks first.
-  const auto prefetchLine = [&](SizeValueType line) {
-    Prefetch(lineRunBegin + line);
-    Prefetch(lineFirstAbove + line);
-    if constexpr (VByBits)
-    {
-      Prefetch(table.Bits + line * table.BitsWords);
-    }
-  };
-  const auto prefetchLines = [&](const LineRun & ahead) {
-    const SizeValueType line = ahead.Line;
-    Prefetch(runStart + ahead.Run);
-    Prefetch(component + ahead.Run);
-    prefetchLine(line);
-    if (line >= plane)
-    {
-      prefetchLine(line - plane);
-    }
-    if (line + plane < lines)
-    {
-      prefetchLine(line + plane);
-    }
-  };
-  const auto prefetchRuns = [&](const LineRun & ahead) {
-    const SizeValueType     line = ahead.Line;
-    const SizeValueType     start = runStart[ahead.Run];
-    const SizeValueType     from = start >= allowance ? start - allowance : 0;
-    constexpr SizeValueType near = Tuning::NearRuns;
-    const auto              runsOf = [&](SizeValueType other) {
-      const SizeValueType guess = table.GuessRunHolding(other, from, perVoxel);
-      const SizeValueType low = guess >= near ? guess - near : 0;
-      if constexpr (!VByBits)
-      {
-        Prefetch(runStart + low);
-        Prefetch(runStart + guess);
-        Prefetch(runStart + guess + near);
-      }
-      Prefetch(component + low);
-      Prefetch(component + guess);
-      Prefetch(component + guess + near);
-    };
-    if (line >= plane)
-    {
-      runsOf(line - plane);
-    }
-    if (line + plane < lines)
-    {
-      runsOf(line + plane);
-    }
-    if (line >= 1)
-    {
-      runsOf(line - 1);
-    }
-    if (line + 1 < lines)
-    {
-      runsOf(line + 1);
-    }
-  };
+  FlippedRunJoins<VByBits> joins(*m_Labeling, m_Parent.get());
+  // The runs ahead are requested early: first the run itself and where the lines' runs begin,
+  // then (a few runs later, once that has arrived) the lines' runs near the run.
   const auto runs = static_cast<SizeValueType>(last - first);
   const bool prefetch = m_Labeling->GetNumberOfRuns() >= Tuning::PrefetchMinimumRuns;
   for (SizeValueType i = 0; i < runs; ++i)
   {
     if (prefetch && i + Tuning::PrefetchLineTablesAhead < runs)
     {
-      prefetchLines(first[i + Tuning::PrefetchLineTablesAhead]);
+      joins.PrefetchLines(first[i + Tuning::PrefetchLineTablesAhead]);
     }
     if (prefetch && i + Tuning::PrefetchRunsAhead < runs)
     {
-      prefetchRuns(first[i + Tuning::PrefetchRunsAhead]);
+      joins.PrefetchRuns(first[i + Tuning::PrefetchRunsAhead]);
     }
-    const SizeValueType      run = first[i].Run;
-    const SizeValueType      line = first[i].Line;
-    const ComponentIndexType flipped = component[run];
-    const SizeValueType      lineBegin = lineRunBegin[line];
-    const SizeValueType      lineEnd = lineRunBegin[line + 1];
-    if (run > lineBegin)
-    {
-      join(flipped, component[run - 1]);
-    }
-    if (run + 1 < lineEnd)
-    {
-      join(flipped, component[run + 1]);
-    }
-    const SizeValueType start = runStart[run];
-    const SizeValueType from = start >= allowance ? start - allowance : 0;
-    const SizeValueType to = table.End(run, line) + allowance;
-    neighbors.MoveTo(position, line);
-    neighbors.ForEachNeighbor(
-      position, [&](SizeValueType other) SMALLISO_LAMBDA_ALWAYS_INLINE { joinOverlapping(flipped, other, from, to); });
+    joins.JoinRun(first[i]);
   }
 }
 
