@@ -102,15 +102,35 @@ public:
   GetValueBytes(const std::vector<std::vector<TPixel>> & values);
 
 private:
+  /** What one pass's repair reads and, where each value is written as it is found, writes. */
+  struct Pass
+  {
+    const TPixel * ValuesBeforePass;
+    TPixel         Fallback;
+    /** Whether the removed voxels are above; the walks stop on the other side. */
+    const Threshold<TPixel> & IsoValue;
+    bool                      RemovedAreAbove;
+    /** Null where the values are kept for WriteValues(). */
+    TPixel *  Output;
+    uint8_t * Mask;
+    uint8_t   MaskValue;
+  };
+
   /** ComputeValues() or, with \a output, ComputeAndWriteValues(). */
   void
-  Repair(const TPixel *            valuesBeforePass,
-         const Threshold<TPixel> & threshold,
-         bool                      removedAreAbove,
-         BelowGrouping *           joinFlipped,
-         TPixel *                  output,
-         uint8_t *                 mask,
-         uint8_t                   maskValue);
+  Repair(const Pass & pass, BelowGrouping * joinFlipped);
+
+  /** Requests the voxels of \a ahead and their neighbours along the other axes. */
+  void
+  PrefetchRun(const Pass & pass, const LineRun & ahead) const;
+
+  /** Repairs \a removed: writes its values, or appends them to \a values; counts its
+   * unrepairable voxels in \a unrepairable. */
+  void
+  RepairRun(const Pass &          pass,
+            const LineRun &       removed,
+            std::vector<TPixel> & values,
+            SizeValueType &       unrepairable) const;
 
   SizeValueType
   ChunkBegin(SizeValueType chunk) const
@@ -136,6 +156,7 @@ private:
   const std::vector<LineRun> & m_Runs;
   SizeType                     m_Size;
   OffsetValueType              m_Stride[VDimension];
+  SizeValueType                m_NumberOfVoxels{ 0 };
   SizeValueType                m_NumberOfChunks;
   /** The new values of each chunk's voxels, in run order, and its unrepairable voxels. */
   std::vector<std::vector<TPixel>>   m_OwnValues;

@@ -20,6 +20,7 @@
 
 #include "itkSmallIsoComponentRunRepair.h"
 #include "itkMath.h"
+#include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentPrefetch.h"
 #include "itkSmallIsoComponentRepairMean.h"
 #include <algorithm>
@@ -60,6 +61,7 @@ RunRepair<TPixel, VDimension>::RunRepair(WorkTeam &                         team
   {
     m_Stride[a] = m_Stride[a - 1] * static_cast<OffsetValueType>(size[a - 1]);
   }
+  m_NumberOfVoxels = static_cast<SizeValueType>(m_Stride[VDimension - 1]) * size[VDimension - 1];
 }
 
 template <typename TPixel, unsigned int VDimension>
@@ -108,7 +110,8 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
                                              bool                      removedAreAbove,
                                              BelowGrouping *           joinFlipped)
 {
-  this->Repair(valuesBeforePass, threshold, removedAreAbove, joinFlipped, nullptr, nullptr, 0);
+  const TPixel fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
+  this->Repair({ valuesBeforePass, fallback, threshold, removedAreAbove, nullptr, nullptr, 0 }, joinFlipped);
 }
 
 template <typename TPixel, unsigned int VDimension>
@@ -120,52 +123,14 @@ RunRepair<TPixel, VDimension>::ComputeAndWriteValues(const TPixel *            v
                                                      uint8_t *                 mask,
                                                      uint8_t                   maskValue)
 {
-  this->Repair(valuesBeforePass, threshold, removedAreAbove, nullptr, output, mask, maskValue);
+  const TPixel fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
+  this->Repair({ valuesBeforePass, fallback, threshold, removedAreAbove, output, mask, maskValue }, nullptr);
 }
 
 template <typename TPixel, unsigned int VDimension>
 void
-RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass,
-                                      const Threshold<TPixel> & threshold,
-                                      bool                      removedAreAbove,
-                                      BelowGrouping *           joinFlipped,
-                                      TPixel *                  output,
-                                      uint8_t *                 mask,
-                                      uint8_t                   maskValue)
+RunRepair<TPixel, VDimension>::Repair(const Pass & pass, BelowGrouping * joinFlipped)
 {
-  const TPixel        fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
-  const auto          sameSide = [&](TPixel v) { return threshold.IsAbove(v) == removedAreAbove; };
-  const SizeValueType length = m_Size[0];
-  SizeValueType       voxels = 1;
-  for (unsigned int a = 0; a < VDimension; ++a)
-  {
-    voxels *= m_Size[a];
-  }
-  // The voxels of a run ahead and their neighbours along the other axes.
-  const auto prefetchNeighbors = [&](const LineRun & ahead) {
-    const SizeValueType first = this->FirstVoxel(ahead);
-    Prefetch(valuesBeforePass + first);
-    if (output != nullptr)
-    {
-      Prefetch(output + first);
-      if (mask != nullptr)
-      {
-        Prefetch(mask + first);
-      }
-    }
-    for (unsigned int a = 1; a < VDimension; ++a)
-    {
-      const auto step = static_cast<SizeValueType>(m_Stride[a]);
-      if (first >= step)
-      {
-        Prefetch(valuesBeforePass + first - step);
-      }
-      if (first + step < voxels)
-      {
-        Prefetch(valuesBeforePass + first + step);
-      }
-    }
-  };
   // Each chunk's array keeps its memory from the last repair.
   m_Values.resize(m_NumberOfChunks);
   m_Unrepairable.assign(m_NumberOfChunks, 0);
@@ -175,63 +140,14 @@ RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass
     std::vector<TPixel> chunkValues = std::move(m_Values[chunk]);
     SizeValueType       unrepairable = 0;
     chunkValues.clear();
-    if (output == nullptr)
+    if (pass.Output == nullptr)
     {
       chunkValues.reserve(2 * (this->ChunkBegin(chunk + 1) - this->ChunkBegin(chunk)));
     }
-    this->ForEachRunOf(chunk, prefetchNeighbors, [&](const LineRun & removed) {
-      // The run's coordinates along axes 1..N-1.
-      SizeValueType coordinates[VDimension];
-      SizeValueType rest = removed.Line;
-      for (unsigned int a = 1; a < VDimension; ++a)
-      {
-        coordinates[a] = rest % m_Size[a];
-        rest /= m_Size[a];
-      }
-      const TPixel *  line = valuesBeforePass + removed.Line * length;
-      TPixel * const  outputLine = output != nullptr ? output + removed.Line * length : nullptr;
-      uint8_t * const maskLine = mask != nullptr ? mask + removed.Line * length : nullptr;
-      RepairLineRun<TPixel>(
-        m_Table.Start[removed.Run],
-        m_Table.End(removed.Run, removed.Line),
-        length,
-        [&](SizeValueType x, TPixel & value) {
-          value = line[x];
-          return sameSide(value);
-        },
-        [&](SizeValueType x, RepairMean & mean) {
-          const TPixel * voxel = line + x;
-          for (unsigned int a = 1; a < VDimension; ++a)
-          {
-            const OffsetValueType step = m_Stride[a];
-            AddFirstOtherSideAlongAxis<TPixel>(
-              coordinates[a],
-              m_Size[a],
-              [&](OffsetValueType offset, TPixel & value) {
-                value = voxel[offset * step];
-                return sameSide(value);
-              },
-              mean);
-          }
-        },
-        [&](SizeValueType x, const RepairMean & mean) {
-          const bool   repaired = mean.GetCount() > 0;
-          const TPixel value = repaired ? mean.Get<TPixel>() : fallback;
-          unrepairable += repaired ? 0 : 1;
-          if (outputLine != nullptr)
-          {
-            outputLine[x] = value;
-            if (maskLine != nullptr)
-            {
-              maskLine[x] = maskValue;
-            }
-          }
-          else
-          {
-            chunkValues.push_back(value);
-          }
-        });
-    });
+    this->ForEachRunOf(
+      chunk,
+      [&](const LineRun & ahead) { this->PrefetchRun(pass, ahead); },
+      [&](const LineRun & removed) { this->RepairRun(pass, removed, chunkValues, unrepairable); });
     m_Values[chunk] = std::move(chunkValues);
     m_Unrepairable[chunk] = unrepairable;
     if (joinFlipped != nullptr)
@@ -239,6 +155,96 @@ RunRepair<TPixel, VDimension>::Repair(const TPixel *            valuesBeforePass
       joinFlipped->JoinNeighbors(m_Runs.data() + this->ChunkBegin(chunk), m_Runs.data() + this->ChunkBegin(chunk + 1));
     }
   });
+}
+
+template <typename TPixel, unsigned int VDimension>
+SMALLISO_ALWAYS_INLINE void
+RunRepair<TPixel, VDimension>::PrefetchRun(const Pass & pass, const LineRun & ahead) const
+{
+  const SizeValueType first = this->FirstVoxel(ahead);
+  Prefetch(pass.ValuesBeforePass + first);
+  if (pass.Output != nullptr)
+  {
+    Prefetch(pass.Output + first);
+    if (pass.Mask != nullptr)
+    {
+      Prefetch(pass.Mask + first);
+    }
+  }
+  for (unsigned int a = 1; a < VDimension; ++a)
+  {
+    const auto step = static_cast<SizeValueType>(m_Stride[a]);
+    if (first >= step)
+    {
+      Prefetch(pass.ValuesBeforePass + first - step);
+    }
+    if (first + step < m_NumberOfVoxels)
+    {
+      Prefetch(pass.ValuesBeforePass + first + step);
+    }
+  }
+}
+
+template <typename TPixel, unsigned int VDimension>
+SMALLISO_ALWAYS_INLINE void
+RunRepair<TPixel, VDimension>::RepairRun(const Pass &          pass,
+                                         const LineRun &       removed,
+                                         std::vector<TPixel> & values,
+                                         SizeValueType &       unrepairable) const
+{
+  const auto sameSide = [&](TPixel v) { return pass.IsoValue.IsAbove(v) == pass.RemovedAreAbove; };
+  // The run's coordinates along axes 1..N-1.
+  SizeValueType coordinates[VDimension];
+  SizeValueType rest = removed.Line;
+  for (unsigned int a = 1; a < VDimension; ++a)
+  {
+    coordinates[a] = rest % m_Size[a];
+    rest /= m_Size[a];
+  }
+  const SizeValueType length = m_Size[0];
+  const TPixel *      line = pass.ValuesBeforePass + removed.Line * length;
+  TPixel * const      outputLine = pass.Output != nullptr ? pass.Output + removed.Line * length : nullptr;
+  uint8_t * const     maskLine = pass.Mask != nullptr ? pass.Mask + removed.Line * length : nullptr;
+  RepairLineRun<TPixel>(
+    m_Table.Start[removed.Run],
+    m_Table.End(removed.Run, removed.Line),
+    length,
+    [&](SizeValueType x, TPixel & value) {
+      value = line[x];
+      return sameSide(value);
+    },
+    [&](SizeValueType x, RepairMean & mean) {
+      const TPixel * voxel = line + x;
+      for (unsigned int a = 1; a < VDimension; ++a)
+      {
+        const OffsetValueType step = m_Stride[a];
+        AddFirstOtherSideAlongAxis<TPixel>(
+          coordinates[a],
+          m_Size[a],
+          [&](OffsetValueType offset, TPixel & value) {
+            value = voxel[offset * step];
+            return sameSide(value);
+          },
+          mean);
+      }
+    },
+    [&](SizeValueType x, const RepairMean & mean) {
+      const bool   repaired = mean.GetCount() > 0;
+      const TPixel value = repaired ? mean.Get<TPixel>() : pass.Fallback;
+      unrepairable += repaired ? 0 : 1;
+      if (outputLine != nullptr)
+      {
+        outputLine[x] = value;
+        if (maskLine != nullptr)
+        {
+          maskLine[x] = pass.MaskValue;
+        }
+      }
+      else
+      {
+        values.push_back(value);
+      }
+    });
 }
 
 template <typename TPixel, unsigned int VDimension>
