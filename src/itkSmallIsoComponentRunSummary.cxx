@@ -27,24 +27,14 @@ BoxHalo(uint64_t maximumComponentSize, SmallIsoComponentEnums::Side side)
   return side == SmallIsoComponentEnums::Side::Both ? 2 * maximumComponentSize : maximumComponentSize;
 }
 
-BlockSummary
-SummarizeLabeling(const RunLabeling &             labeling,
-                  const BlockSummary::IndexType & extent,
-                  const BlockSummary::IndexType & imageSize,
-                  const BlockSummary::IndexType & begin,
-                  const ComponentRules &          rules)
+namespace
 {
-  using NodeType = BlockSummary::NodeType;
-  const BlockSummary::IndexType end{ begin[0] + extent[0], begin[1] + extent[1], begin[2] + extent[2] };
-  BlockSummary                  summary(imageSize, begin, end, rules);
-  const SizeValueType           components = labeling.GetNumberOfComponents();
-  for (SizeValueType c = 0; c < components; ++c)
-  {
-    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
-    summary.AddComponent(labeling.IsComponentAbove(component), labeling.GetComponentSize(component));
-  }
+using NodeType = BlockSummary::NodeType;
 
-  // The faces inside the image: the components of the voxels along them.
+/** The faces of the block inside the image: the components of the voxels along them. */
+void
+AddFaceLayers(BlockSummary & summary, const RunLabeling & labeling, const BlockSummary::IndexType & extent)
+{
   const SizeValueType         ny = extent[1];
   const SizeValueType         nz = extent[2];
   const RunLabeling::RunTable table = labeling.GetRunTable();
@@ -101,9 +91,14 @@ SummarizeLabeling(const RunLabeling &             labeling,
       summary.SetFaceLayer(2, upper, std::move(layer));
     }
   }
+}
 
-  // For Side Both: the below components that each possibly small above component touches. All
-  // the runs of a component of at most K voxels are candidates.
+/** For Side Both: the below components that each possibly small above component touches. All
+ * the runs of a component of at most K voxels are candidates. */
+void
+AddTouchingOfSmallAbove(BlockSummary & summary, const RunLabeling & labeling)
+{
+  const SizeValueType  components = labeling.GetNumberOfComponents();
   std::vector<uint8_t> possiblySmall(components, 0);
   bool                 any = false;
   for (SizeValueType c = 0; c < components; ++c)
@@ -113,22 +108,44 @@ SummarizeLabeling(const RunLabeling &             labeling,
       labeling.IsComponentAbove(component) && summary.NeedsTouching(labeling.GetComponentSize(component));
     any = any || possiblySmall[c];
   }
-  if (any)
+  if (!any)
   {
-    for (const auto & candidate : labeling.CollectCandidateRuns(possiblySmall))
-    {
-      const NodeType above = componentOf(candidate.Run);
-      NodeType       last = BlockSummary::NoNode;
-      ForEachTouchingRunOfOtherSide(labeling, candidate.Run, candidate.Line, [&](SizeValueType other) {
-        const NodeType below = componentOf(other);
-        if (below != last)
-        {
-          summary.AddTouching(above, below);
-          last = below;
-        }
-      });
-    }
+    return;
   }
+  const RunLabeling::RunTable table = labeling.GetRunTable();
+  for (const auto & candidate : labeling.CollectCandidateRuns(possiblySmall))
+  {
+    const auto above = static_cast<NodeType>(table.Component[candidate.Run]);
+    NodeType   last = BlockSummary::NoNode;
+    ForEachTouchingRunOfOtherSide(labeling, candidate.Run, candidate.Line, [&](SizeValueType other) {
+      const auto below = static_cast<NodeType>(table.Component[other]);
+      if (below != last)
+      {
+        summary.AddTouching(above, below);
+        last = below;
+      }
+    });
+  }
+}
+} // namespace
+
+BlockSummary
+SummarizeLabeling(const RunLabeling &             labeling,
+                  const BlockSummary::IndexType & extent,
+                  const BlockSummary::IndexType & imageSize,
+                  const BlockSummary::IndexType & begin,
+                  const ComponentRules &          rules)
+{
+  const BlockSummary::IndexType end{ begin[0] + extent[0], begin[1] + extent[1], begin[2] + extent[2] };
+  BlockSummary                  summary(imageSize, begin, end, rules);
+  const SizeValueType           components = labeling.GetNumberOfComponents();
+  for (SizeValueType c = 0; c < components; ++c)
+  {
+    const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
+    summary.AddComponent(labeling.IsComponentAbove(component), labeling.GetComponentSize(component));
+  }
+  AddFaceLayers(summary, labeling, extent);
+  AddTouchingOfSmallAbove(summary, labeling);
   return summary;
 }
 } // namespace SmallIsoComponentDetail
