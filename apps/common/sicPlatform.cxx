@@ -344,52 +344,47 @@ BackgroundProgram::ReadLine(std::chrono::milliseconds)
 
 namespace
 {
-/** argv for \a program and \a arguments: pointers into the strings, which must outlive it. */
-std::vector<char *>
-ArgumentVector(const fs::path & program, std::vector<std::string> & arguments)
+/** Whether HandleTerminationSignals() blocked the termination signals, and the signal mask before it did. */
+bool     SignalsBlocked = false;
+sigset_t SignalMaskBefore;
+
+/** Starts \a program with \a arguments, its standard output and error written to \a output (opened with \a flags)
+ * and the descriptor \a unused (unless -1) closed. Returns 0 or the error number. The program gets the signal mask
+ * the tool had before it blocked the termination signals: a program with them blocked could not be stopped. */
+int
+Spawn(pid_t &                  child,
+      const fs::path &         program,
+      std::vector<std::string> arguments,
+      const char *             output,
+      int                      flags,
+      int                      unused)
 {
-  std::vector<char *> argv;
-  argv.push_back(const_cast<char *>(program.c_str()));
+  std::vector<char *> argv{ const_cast<char *>(program.c_str()) };
   for (std::string & argument : arguments)
   {
     argv.push_back(argument.data());
   }
   argv.push_back(nullptr);
-  return argv;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (unused >= 0)
+  {
+    posix_spawn_file_actions_addclose(&actions, unused);
+  }
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output, flags, 0600);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (SignalsBlocked)
+  {
+    posix_spawnattr_setsigmask(&attributes, &SignalMaskBefore);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
+  }
+  const int spawned = posix_spawn(&child, program.c_str(), &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
+  posix_spawn_file_actions_destroy(&actions);
+  return spawned;
 }
-
-/** Whether HandleTerminationSignals() blocked the termination signals, and the signal mask before it did. */
-bool     SignalsBlocked = false;
-sigset_t SignalMaskBefore;
-
-/** Spawn attributes that give a started program the signal mask the tool had before it blocked the termination
- * signals; a program with them blocked could not be stopped. */
-class SpawnAttributes
-{
-public:
-  SpawnAttributes()
-  {
-    posix_spawnattr_init(&m_Attributes);
-    if (SignalsBlocked)
-    {
-      posix_spawnattr_setsigmask(&m_Attributes, &SignalMaskBefore);
-      posix_spawnattr_setflags(&m_Attributes, POSIX_SPAWN_SETSIGMASK);
-    }
-  }
-  SpawnAttributes(const SpawnAttributes &) = delete;
-  SpawnAttributes &
-  operator=(const SpawnAttributes &) = delete;
-  ~SpawnAttributes() { posix_spawnattr_destroy(&m_Attributes); }
-
-  const posix_spawnattr_t *
-  Get() const
-  {
-    return &m_Attributes;
-  }
-
-private:
-  posix_spawnattr_t m_Attributes;
-};
 
 /** The thread that waits for the termination signals. */
 pthread_t Waiter;
@@ -502,17 +497,8 @@ CanStartPrograms()
 int
 RunProgram(const fs::path & program, const std::vector<std::string> & arguments, const fs::path & log)
 {
-  std::vector<std::string>   copies = arguments;
-  std::vector<char *>        argv = ArgumentVector(program, copies);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t                 child = 0;
-  const SpawnAttributes attributes;
-  const int spawned = posix_spawn(&child, program.c_str(), &actions, attributes.Get(), argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0)
+  pid_t child = 0;
+  if (Spawn(child, program, arguments, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, -1) != 0)
   {
     return -1;
   }
@@ -549,15 +535,7 @@ BackgroundProgram::BackgroundProgram(const fs::path &                 program,
   }
   std::vector<std::string> all = { pipeFlag, std::to_string(channel[1]) };
   all.insert(all.end(), arguments.begin(), arguments.end());
-  std::vector<char *>        argv = ArgumentVector(program, all);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, channel[0]);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  const SpawnAttributes attributes;
-  const int spawned = posix_spawn(&m_Process->Id, program.c_str(), &actions, attributes.Get(), argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const int spawned = Spawn(m_Process->Id, program, std::move(all), "/dev/null", O_WRONLY, channel[0]);
   close(channel[1]);
   if (spawned != 0)
   {
