@@ -623,26 +623,17 @@ AvailableMemoryBytes()
   std::string   line;
   while (std::getline(groups, line))
   {
+    // "id:controllers:group": the memory controller of cgroup v1, or the one line of v2, which names none.
     const auto colon = line.find(':');
     const auto path = line.find(':', colon + 1);
-    if (colon == std::string::npos || path == std::string::npos)
+    const bool v1 = path != std::string::npos && line.compare(colon + 1, path - colon - 1, "memory") == 0;
+    if (path == std::string::npos || (!v1 && path != colon + 1))
     {
       continue;
     }
-    const std::string controllers = line.substr(colon + 1, path - colon - 1);
-    const std::string group = line.substr(path + 1);
-    std::uint64_t     limit = 0;
-    std::uint64_t     usage = 0;
-    if (controllers == "memory")
-    {
-      limit = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.limit_in_bytes");
-      usage = NumberIn("/sys/fs/cgroup/memory" + group + "/memory.usage_in_bytes");
-    }
-    else if (controllers.empty())
-    {
-      limit = NumberIn("/sys/fs/cgroup" + group + "/memory.max");
-      usage = NumberIn("/sys/fs/cgroup" + group + "/memory.current");
-    }
+    const std::string   files = (v1 ? "/sys/fs/cgroup/memory" : "/sys/fs/cgroup") + line.substr(path + 1) + "/memory.";
+    const std::uint64_t limit = NumberIn(files + (v1 ? "limit_in_bytes" : "max"));
+    const std::uint64_t usage = NumberIn(files + (v1 ? "usage_in_bytes" : "current"));
     if (limit > 0 && limit < (std::uint64_t{ 1 } << 60))
     {
       const std::uint64_t room = limit > usage ? limit - usage : 0;
