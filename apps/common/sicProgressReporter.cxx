@@ -32,22 +32,10 @@ namespace
 constexpr int BarWidth = 30;
 } // namespace
 
-ProgressReporter::Style
-ProgressReporter::ChooseStyle(bool quiet, bool slicerXml)
-{
-  if (quiet)
-  {
-    return Style::Silent;
-  }
-  if (slicerXml)
-  {
-    return Style::SlicerXml;
-  }
-  return StandardErrorIsTerminal() ? Style::Bar : Style::Lines;
-}
-
-ProgressReporter::ProgressReporter(Style style, std::string name, std::string comment)
-  : m_Style(style)
+ProgressReporter::ProgressReporter(bool quiet, bool slicerXml, std::string name, std::string comment)
+  : m_Style(quiet       ? Style::Silent
+            : slicerXml ? Style::SlicerXml
+                        : (StandardErrorIsTerminal() ? Style::Bar : Style::Lines))
   , m_Name(std::move(name))
   , m_Start(std::chrono::steady_clock::now())
 {
@@ -94,12 +82,6 @@ ProgressReporter::Update(double fraction)
 {
   fraction = std::clamp(fraction, 0.0, 1.0);
   m_Progress = std::max(m_Progress, m_StageBegin + fraction * (m_StageEnd - m_StageBegin));
-  Draw();
-}
-
-void
-ProgressReporter::Draw()
-{
   // Redraw only when the shown percentage changes.
   const int percent = static_cast<int>(m_Progress * 100.0);
   if (percent == m_Shown)

@@ -37,20 +37,9 @@ namespace sic
 class ProgressReporter
 {
 public:
-  enum class Style
-  {
-    Silent,
-    Bar,
-    Lines,
-    SlicerXml
-  };
-
-  /** Silent when \a quiet, SlicerXml when \a slicerXml, else Bar or Lines depending on whether stderr is a terminal. */
-  static Style
-  ChooseStyle(bool quiet, bool slicerXml);
-
-  /** \a name names the tool, \a comment says what it does (Slicer shows both). */
-  ProgressReporter(Style style, std::string name, std::string comment);
+  /** Silent when \a quiet, SlicerXml when \a slicerXml, else Bar or Lines depending on whether stderr is a terminal.
+   * \a name names the tool, \a comment says what it does (Slicer shows both). */
+  ProgressReporter(bool quiet, bool slicerXml, std::string name, std::string comment);
   ProgressReporter(const ProgressReporter &) = delete;
   ProgressReporter &
   operator=(const ProgressReporter &) = delete;
@@ -74,10 +63,16 @@ public:
   Finish();
 
 private:
+  enum class Style
+  {
+    Silent,
+    Bar,
+    Lines,
+    SlicerXml
+  };
+
   void
   OnProgress(itk::Object * caller, const itk::EventObject & event);
-  void
-  Draw();
   void
   ClearBar();
 

@@ -763,10 +763,9 @@ Run(const sic::FilterSettings & settings)
   std::ostringstream comment;
   comment << "Removing components of at most " << (settings.UsesVolume() ? "the maximum volume" : "K voxels")
           << " at isovalue " << settings.IsoValue;
-  sic::ProgressReporter progress(
-    sic::ProgressReporter::ChooseStyle(settings.Quiet, settings.ProgressXml), ToolName, comment.str());
-  sic::FilterReport   report;
-  const std::uint64_t limit = StreamingLimit(settings, info);
+  sic::ProgressReporter progress(settings.Quiet, settings.ProgressXml, ToolName, comment.str());
+  sic::FilterReport     report;
+  const std::uint64_t   limit = StreamingLimit(settings, info);
   if (limit > 0)
   {
     report = FilterStreamed(settings, staged, limit, progress);
