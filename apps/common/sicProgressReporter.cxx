@@ -123,11 +123,6 @@ ProgressReporter::OnProgress(itk::Object * caller, const itk::EventObject & even
 void
 ProgressReporter::Finish()
 {
-  if (m_Finished)
-  {
-    return;
-  }
-  m_Finished = true;
   m_StageBegin = m_StageEnd = 1.0;
   Update(1.0);
   ClearBar();

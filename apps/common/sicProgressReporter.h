@@ -84,7 +84,6 @@ private:
   double                                        m_Progress{ 0.0 };
   int                                           m_Shown{ -1 };
   bool                                          m_BarDrawn{ false };
-  bool                                          m_Finished{ false };
   std::chrono::steady_clock::time_point         m_Start;
   itk::MemberCommand<ProgressReporter>::Pointer m_Observer;
 };
