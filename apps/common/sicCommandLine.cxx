@@ -40,19 +40,6 @@ NormalizeFlag(std::string flag)
   return flag;
 }
 
-const Option *
-FindOption(const ToolDescription & tool, const std::string & flag)
-{
-  for (const Option & option : tool.Options)
-  {
-    if (option.Flag == flag)
-    {
-      return &option;
-    }
-  }
-  return nullptr;
-}
-
 /** Appends \a text to \a out wrapped at 79 columns, each line indented by \a indent. */
 void
 Wrap(std::ostringstream & out, const std::string & text, size_t indent)
@@ -67,18 +54,8 @@ Wrap(std::ostringstream & out, const std::string & text, size_t indent)
       out << '\n';
       column = 0;
     }
-    if (column == 0)
-    {
-      out << std::string(indent, ' ');
-      column = indent;
-    }
-    else
-    {
-      out << ' ';
-      ++column;
-    }
-    out << word;
-    column += word.size();
+    out << (column == 0 ? std::string(indent, ' ') : std::string(" ")) << word;
+    column += (column == 0 ? indent : 1) + word.size();
   }
   out << '\n';
 }
@@ -93,15 +70,15 @@ ParsedCommandLine::Has(const std::string & flag) const
 std::string
 ParsedCommandLine::Value(const std::string & flag) const
 {
-  const auto found = m_Options.find(flag);
-  return found == m_Options.end() ? std::string() : found->second;
+  const std::vector<std::string> values = Values(flag);
+  return values.empty() ? std::string() : values.back();
 }
 
 std::vector<std::string>
 ParsedCommandLine::Values(const std::string & flag) const
 {
-  const auto found = m_AllValues.find(flag);
-  return found == m_AllValues.end() ? std::vector<std::string>() : found->second;
+  const auto found = m_Options.find(flag);
+  return found == m_Options.end() ? std::vector<std::string>() : found->second;
 }
 
 // Our own loop rather than CLI11 or KWSys's CommandLineArguments: both accept what the tools refuse (CLI11 takes
@@ -131,10 +108,12 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
       parsed.m_Options["--help"];
       continue;
     }
-    const size_t   equals = argument.find('=');
-    std::string    flag = argument.substr(0, equals);
-    const Option * option = flag.compare(0, 2, "--") == 0 ? FindOption(tool, NormalizeFlag(flag)) : nullptr;
-    if (!option)
+    const size_t equals = argument.find('=');
+    std::string  flag = argument.substr(0, equals);
+    const auto   option = std::find_if(tool.Options.begin(), tool.Options.end(), [&flag](const Option & candidate) {
+      return flag.compare(0, 2, "--") == 0 && candidate.Flag == NormalizeFlag(flag);
+    });
+    if (option == tool.Options.end())
     {
       const bool numberLike = std::isdigit(static_cast<unsigned char>(argument[1])) || argument[1] == '.';
       throw ToolError(
@@ -159,8 +138,7 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
     else if (equals != std::string::npos || i + 1 < argc)
     {
       const std::string value = equals != std::string::npos ? argument.substr(equals + 1) : std::string(argv[++i]);
-      parsed.m_Options[flag] = value;
-      parsed.m_AllValues[flag].push_back(value);
+      parsed.m_Options[flag].push_back(value);
     }
     else
     {

@@ -121,8 +121,8 @@ private:
   friend ParsedCommandLine
   ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv[]);
 
-  std::map<std::string, std::string>              m_Options;
-  std::map<std::string, std::vector<std::string>> m_AllValues;
+  /** Every value of each option given, none for a switch. */
+  std::map<std::string, std::vector<std::string>> m_Options;
   std::vector<std::string>                        m_Positionals;
 };
 
