@@ -32,11 +32,12 @@ namespace sic
 {
 namespace
 {
-/** Hyphens and underscores are the same in a long flag's name. */
+/** \a flag with \a from replaced by \a to in its name: hyphens and underscores are the same to the parser, and a
+ * Slicer longflag has no hyphens ("--max_size"). */
 std::string
-NormalizeFlag(std::string flag)
+ReplaceInFlag(std::string flag, char from, char to)
 {
-  std::replace(flag.begin() + 2, flag.end(), '_', '-');
+  std::replace(flag.begin() + 2, flag.end(), from, to);
   return flag;
 }
 
@@ -58,6 +59,72 @@ Wrap(std::ostringstream & out, const std::string & text, size_t indent)
     column += (column == 0 ? indent : 1) + word.size();
   }
   out << '\n';
+}
+
+/** <tag>value</tag> on a line of its own after \a indent; nothing when there is no value. */
+void
+WriteOptionalElement(std::ostringstream & out, const char * indent, const std::string & tag, const std::string & value)
+{
+  if (!value.empty())
+  {
+    out << indent << '<' << tag << '>' << XmlEscaped(value) << "</" << tag << ">\n";
+  }
+}
+
+/** One parameter; \a flag is empty for a positional, which gets \a index instead. */
+void
+WriteParameter(std::ostringstream &    out,
+               const SlicerParameter & parameter,
+               const std::string &     flag,
+               int                     index,
+               const std::string &     help,
+               const std::string &     commandLineDefault)
+{
+  out << "    <" << parameter.Tag;
+  if (!parameter.ImageType.empty())
+  {
+    out << " type=\"" << XmlEscaped(parameter.ImageType) << '"';
+  }
+  if (!parameter.FileExtensions.empty())
+  {
+    out << " fileExtensions=\"" << XmlEscaped(parameter.FileExtensions) << '"';
+  }
+  if (parameter.Hidden)
+  {
+    out << " hidden=\"true\"";
+  }
+  out << ">\n";
+  out << "      <name>" << XmlEscaped(parameter.Name) << "</name>\n";
+  if (flag.empty())
+  {
+    out << "      <index>" << index << "</index>\n";
+  }
+  else
+  {
+    out << "      <longflag>" << XmlEscaped(ReplaceInFlag(flag, '-', '_')) << "</longflag>\n";
+  }
+  out << "      <label>" << XmlEscaped(parameter.Label) << "</label>\n";
+  out << "      <description>" << XmlEscaped(help) << "</description>\n";
+  WriteOptionalElement(out, "      ", "channel", parameter.Channel);
+  std::string defaultValue = parameter.Default.empty() ? commandLineDefault : parameter.Default;
+  if (parameter.Tag == "boolean" && defaultValue.empty())
+  {
+    defaultValue = "false";
+  }
+  WriteOptionalElement(out, "      ", "default", defaultValue);
+  for (const std::string & element : parameter.Elements)
+  {
+    out << "      <element>" << XmlEscaped(element) << "</element>\n";
+  }
+  if (!parameter.Minimum.empty() || !parameter.Maximum.empty() || !parameter.Step.empty())
+  {
+    out << "      <constraints>\n";
+    WriteOptionalElement(out, "        ", "minimum", parameter.Minimum);
+    WriteOptionalElement(out, "        ", "maximum", parameter.Maximum);
+    WriteOptionalElement(out, "        ", "step", parameter.Step);
+    out << "      </constraints>\n";
+  }
+  out << "    </" << parameter.Tag << ">\n";
 }
 } // namespace
 
@@ -111,7 +178,7 @@ ParseCommandLine(const ToolDescription & tool, int argc, const char * const argv
     const size_t equals = argument.find('=');
     std::string  flag = argument.substr(0, equals);
     const auto   option = std::find_if(tool.Options.begin(), tool.Options.end(), [&flag](const Option & candidate) {
-      return flag.compare(0, 2, "--") == 0 && candidate.Flag == NormalizeFlag(flag);
+      return flag.compare(0, 2, "--") == 0 && candidate.Flag == ReplaceInFlag(flag, '_', '-');
     });
     if (option == tool.Options.end())
     {
@@ -189,6 +256,61 @@ HelpText(const ToolDescription & tool)
   {
     out << '\n' << tool.Epilogue;
   }
+  return out.str();
+}
+
+std::string
+SlicerDescriptionXml(const ToolDescription & tool)
+{
+  std::vector<std::string> groups;
+  const auto               addGroup = [&groups](const SlicerParameter & parameter) {
+    if (!parameter.Tag.empty() && std::find(groups.begin(), groups.end(), parameter.Group) == groups.end())
+    {
+      groups.push_back(parameter.Group);
+    }
+  };
+  for (const Positional & positional : tool.Positionals)
+  {
+    addGroup(positional.Slicer);
+  }
+  for (const Option & option : tool.Options)
+  {
+    addGroup(option.Slicer);
+  }
+
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<executable>\n";
+  out << "  <category>" << XmlEscaped(tool.Category) << "</category>\n";
+  out << "  <title>" << XmlEscaped(tool.Title) << "</title>\n";
+  out << "  <description>" << XmlEscaped(tool.Description) << "</description>\n";
+  out << "  <version>" << XmlEscaped(tool.Version) << "</version>\n";
+  WriteOptionalElement(out, "  ", "documentation-url", tool.DocumentationUrl);
+  out << "  <license>" << XmlEscaped(tool.License) << "</license>\n";
+  out << "  <contributor>" << XmlEscaped(tool.Contributor) << "</contributor>\n";
+  out << "  <acknowledgements>" << XmlEscaped(tool.Acknowledgements) << "</acknowledgements>\n";
+  for (const std::string & group : groups)
+  {
+    out << "  <parameters" << (group == "Advanced" ? " advanced=\"true\"" : "") << ">\n";
+    out << "    <label>" << XmlEscaped(group) << "</label>\n";
+    out << "    <description>" << XmlEscaped(group) << "</description>\n";
+    for (size_t i = 0; i < tool.Positionals.size(); ++i)
+    {
+      const Positional & positional = tool.Positionals[i];
+      if (!positional.Slicer.Tag.empty() && positional.Slicer.Group == group)
+      {
+        WriteParameter(out, positional.Slicer, "", static_cast<int>(i), positional.Help, "");
+      }
+    }
+    for (const Option & option : tool.Options)
+    {
+      if (!option.Slicer.Tag.empty() && option.Slicer.Group == group)
+      {
+        WriteParameter(out, option.Slicer, option.Flag, 0, option.Help, option.Default);
+      }
+    }
+    out << "  </parameters>\n";
+  }
+  out << "</executable>\n";
   return out.str();
 }
 

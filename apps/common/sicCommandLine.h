@@ -26,7 +26,7 @@
 namespace sic
 {
 /** How a parameter appears in a 3D Slicer Execution Model description (see
- * sicSlicerDescription.h). An empty Tag leaves it out of the description. */
+ * SlicerDescriptionXml()). An empty Tag leaves it out of the description. */
 struct SlicerParameter
 {
   /** double, integer, string-enumeration, boolean, file or image. */
@@ -139,6 +139,17 @@ CheckPositionals(const ToolDescription & tool, const ParsedCommandLine & argumen
 /** The --help text. */
 std::string
 HelpText(const ToolDescription & tool);
+
+/** The tool's 3D Slicer Execution Model description (the XML a Slicer CLI module prints for --xml), built from the same
+ * ToolDescription as the parser.
+ *
+ * Slicer passes a parameter as "--" + its longflag, in the order of the description, followed by the parameters that
+ * have an index (the positionals), in index order. A Slicer longflag may contain only letters, digits and underscores,
+ * so the description spells each flag with underscores ("--max_size"), which the parser accepts. Parameters are grouped
+ * by SlicerParameter::Group, in the order the groups first appear; a group named "Advanced" is marked advanced
+ * (collapsed in Slicer's GUI). */
+std::string
+SlicerDescriptionXml(const ToolDescription & tool);
 
 /** A finite number (NaN and infinities are refused); throws ToolError naming the flag. */
 double

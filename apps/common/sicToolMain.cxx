@@ -17,7 +17,6 @@
  *=========================================================================*/
 #include "sicToolMain.h"
 #include "sicPlatform.h"
-#include "sicSlicerDescription.h"
 #include "sicToolError.h"
 
 #include "itkMacro.h"

@@ -24,7 +24,6 @@
 #include "sicImageFiles.h"
 #include "sicProgressReporter.h"
 #include "sicScalarImageDispatch.h"
-#include "sicSlicerDescription.h"
 #include "sicPlatform.h"
 #include "sicStagedOutputs.h"
 #include "sicStreamedFilter.h"
