@@ -38,17 +38,11 @@ SameFile(const fs::path & a, const fs::path & b)
   std::error_code error;
   const bool      aExists = fs::exists(a, error);
   const bool      bExists = fs::exists(b, error);
-  if (aExists && bExists)
+  if (aExists || bExists)
   {
-    return fs::equivalent(a, b, error);
+    return aExists && bExists && fs::equivalent(a, b, error);
   }
-  if (aExists != bExists)
-  {
-    return false;
-  }
-  std::error_code errorA;
-  std::error_code errorB;
-  return fs::weakly_canonical(fs::absolute(a), errorA) == fs::weakly_canonical(fs::absolute(b), errorB);
+  return fs::weakly_canonical(fs::absolute(a), error) == fs::weakly_canonical(fs::absolute(b), error);
 }
 
 /** Throws unless an output may replace what is at \a destination: nothing, a regular file or a link to one (or to
