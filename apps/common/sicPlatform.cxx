@@ -32,7 +32,6 @@
 #include <mutex>
 #include <new>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 #ifdef _WIN32
@@ -259,11 +258,9 @@ StandardErrorCapture::Restore()
   CloseDescriptor(m_Saved);
   std::string text;
   std::rewind(m_File);
-  char   chunk[4096];
-  size_t got = 0;
-  while ((got = std::fread(chunk, 1, sizeof(chunk), m_File)) > 0)
+  for (int c = std::fgetc(m_File); c != EOF; c = std::fgetc(m_File))
   {
-    text.append(chunk, got);
+    text += static_cast<char>(c);
   }
   std::fclose(m_File);
   m_File = nullptr;
@@ -585,10 +582,7 @@ KilobytesField(const char * path, const std::string & key)
   {
     if (line.compare(0, key.size(), key) == 0)
     {
-      std::istringstream fields(line.substr(key.size()));
-      std::uint64_t      kilobytes = 0;
-      fields >> kilobytes;
-      return kilobytes * 1024;
+      return std::strtoull(line.c_str() + key.size(), nullptr, 10) * 1024;
     }
   }
   return 0;
