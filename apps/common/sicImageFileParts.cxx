@@ -31,6 +31,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <sstream>
 #include <utility>
 
@@ -93,120 +94,76 @@ SaturatingProduct(std::uint64_t a, std::uint64_t b)
   return a != 0 && b > Saturated / a ? Saturated : a * b;
 }
 
-/** The product of the sizes in \a text ("256 256 128") times \a bytesPerValue, or nothing when a size is not a
- * whole number >= 0. */
-std::optional<std::uint64_t>
-DataBytesOf(const std::vector<std::string> & sizes, std::uint64_t bytesPerValue)
+/** \a factor times the sizes from \a first on. */
+std::uint64_t
+Product(const std::vector<std::uint64_t> & sizes, std::uint64_t factor, std::size_t first = 0)
 {
-  std::uint64_t bytes = bytesPerValue;
-  for (const std::string & text : sizes)
-  {
-    const std::optional<std::int64_t> size = ParseInteger(text);
-    if (!size || *size < 0)
-    {
-      return std::nullopt;
-    }
-    bytes = SaturatingProduct(bytes, static_cast<std::uint64_t>(*size));
-  }
-  return bytes;
+  return std::accumulate(sizes.begin() + first, sizes.end(), factor, SaturatingProduct);
 }
 
-/** Why the header field \a field, whose value is \a sizes, does not give a whole number of voxels of at least 1
- * along each axis; empty when it does. ITK's NRRD reader refuses such sizes with a trace that does not say which
- * field is wrong, and its MetaImage reader takes a negative size as a huge one. */
-std::string
-SizesProblem(const std::string & field, const std::vector<std::string> & sizes)
+/** The sizes the header field \a field gives with \a words; when they are not whole numbers of voxels of at least 1
+ * along each axis, sets \a problem saying why. ITK's NRRD reader refuses such sizes with a trace that does not say
+ * which field is wrong, and its MetaImage reader takes a negative size as a huge one. */
+std::vector<std::uint64_t>
+WholeSizes(const std::string & field, const std::vector<std::string> & words, std::string & problem)
 {
-  bool        whole = !sizes.empty();
-  bool        empty = false;
-  std::string shown;
-  std::string value;
-  for (const std::string & text : sizes)
+  std::vector<std::uint64_t> sizes;
+  std::string                shown;
+  std::string                value;
+  for (const std::string & text : words)
   {
     const std::optional<std::int64_t> size = ParseInteger(text);
-    whole = whole && size && *size >= 0;
-    empty = empty || (size && *size == 0);
+    if (size && *size >= 0)
+    {
+      sizes.push_back(static_cast<std::uint64_t>(*size));
+    }
     shown += (shown.empty() ? "" : " x ") + text;
     value += " " + text;
   }
-  if (!whole)
+  if (sizes.empty() || sizes.size() != words.size())
   {
-    return "its header gives '" + field + value + "'; expected a whole number of voxels, at least 1, along each axis";
+    problem =
+      "its header gives '" + field + value + "'; expected a whole number of voxels, at least 1, along each axis";
   }
-  if (empty)
+  else if (std::find(sizes.begin(), sizes.end(), 0) != sizes.end())
   {
-    return "is empty: its size is " + shown + " voxels; expected at least one voxel along every axis";
+    problem = "is empty: its size is " + shown + " voxels; expected at least one voxel along every axis";
   }
-  return {};
+  return sizes;
 }
 
-/** A file's lines with the byte offset after each, reading no further than asked. */
-class LineReader
+/** The next line of \a stream without its line end ('\n' or "\r\n"); false at the end of the stream. */
+bool
+NextLine(std::istream & stream, std::string & line)
 {
-public:
-  explicit LineReader(const fs::path & path)
-    : m_Stream(path, std::ios::binary)
-  {}
-
-  /** The next line without its line end ('\n' or "\r\n"); false at the end of the file. */
-  bool
-  Next(std::string & line)
+  if (!std::getline(stream, line))
   {
-    if (!std::getline(m_Stream, line))
-    {
-      return false;
-    }
-    m_Offset += line.size() + (m_Stream.eof() ? 0 : 1);
-    if (!line.empty() && line.back() == '\r')
-    {
-      line.pop_back();
-    }
-    return true;
+    return false;
   }
-
-  /** Bytes read so far: where the next line starts. */
-  std::uint64_t
-  Offset() const
+  if (!line.empty() && line.back() == '\r')
   {
-    return m_Offset;
+    line.pop_back();
   }
+  return true;
+}
 
-  /** Whether the last line ended with a line end (false when the file ended within it). */
-  bool
-  LineEnded() const
-  {
-    return !m_Stream.eof();
-  }
-
-  /** Skips \a count lines from \a offset on and returns the offset after them (the file's size if it has fewer). */
-  static std::uint64_t
-  SkipLines(const fs::path & path, std::uint64_t offset, std::uint64_t count)
-  {
-    std::error_code error;
-    if (count == 0 || !fs::is_regular_file(path, error))
-    {
-      return offset;
-    }
-    LineReader reader(path);
-    reader.m_Stream.seekg(static_cast<std::streamoff>(offset));
-    reader.m_Offset = offset;
-    std::string line;
-    for (std::uint64_t skipped = 0; skipped < count && reader.Next(line); ++skipped)
-    {}
-    return reader.m_Offset;
-  }
-
-private:
-  std::ifstream m_Stream;
-  std::uint64_t m_Offset{ 0 };
-};
-
-/** \a name relative to the directory of \a header, unless it is absolute. */
-fs::path
-Beside(const fs::path & header, const std::string & name)
+/** The offset after \a count lines of \a path from \a offset on (the file's size if it has fewer). */
+std::uint64_t
+SkipLines(const fs::path & path, std::uint64_t offset, std::uint64_t count)
 {
-  const fs::path file(name);
-  return file.is_absolute() ? file : header.parent_path() / file;
+  std::error_code error;
+  if (count == 0 || !fs::is_regular_file(path, error))
+  {
+    return offset;
+  }
+  std::ifstream stream(path, std::ios::binary);
+  stream.seekg(static_cast<std::streamoff>(offset));
+  for (; count > 0 && stream.good(); --count)
+  {
+    stream.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    offset += static_cast<std::uint64_t>(stream.gcount());
+  }
+  return offset;
 }
 
 /** The names of a numbered series, "slice%03d.raw 1 10 1": a printf pattern with one integer conversion, then
@@ -257,19 +214,28 @@ NumberedFiles(const std::vector<std::string> & words)
   return names;
 }
 
-/** The data files that a header's \a value names, relative to \a header: LIST (the names on the lines left to
- * \a reader), a numbered series or one file. Sets \a series for the first two. */
+void
+AddFile(ImageFileParts & parts, const fs::path & file)
+{
+  if (std::find(parts.Files.begin(), parts.Files.end(), file) == parts.Files.end())
+  {
+    parts.Files.push_back(file);
+  }
+}
+
+/** The data files that a header's \a value names, relative to \a header, added to \a parts: LIST (the names on the
+ * lines left in \a stream), a numbered series or one file. */
 std::vector<fs::path>
-DataFiles(const fs::path & header, const std::string & value, LineReader & reader, bool & series)
+DataFiles(const fs::path & header, const std::string & value, std::istream & stream, ImageFileParts & parts)
 {
   const bool               listed = value.compare(0, 4, "LIST") == 0;
   const auto               numbered = NumberedFiles(Words(value));
   std::vector<std::string> names = numbered ? *numbered : std::vector<std::string>{ value };
-  series = listed || numbered;
+  parts.DataFileSeries = listed || numbered;
   if (listed)
   {
     names.clear();
-    for (std::string line; reader.Next(line);)
+    for (std::string line; NextLine(stream, line);)
     {
       if (!Trim(line).empty())
       {
@@ -280,18 +246,11 @@ DataFiles(const fs::path & header, const std::string & value, LineReader & reade
   std::vector<fs::path> files;
   for (const std::string & name : names)
   {
-    files.push_back(Beside(header, name));
+    const fs::path file(name);
+    files.push_back(file.is_absolute() ? file : header.parent_path() / file);
+    AddFile(parts, files.back());
   }
   return files;
-}
-
-void
-AddFile(ImageFileParts & parts, const fs::path & file)
-{
-  if (std::find(parts.Files.begin(), parts.Files.end(), file) == parts.Files.end())
-  {
-    parts.Files.push_back(file);
-  }
 }
 
 /** Bytes per value of a NRRD type name as NrrdIO knows it, 0 for an unknown one or "block"; a name not in lower
@@ -308,24 +267,20 @@ NrrdTypeBytes(const std::string & type)
 void
 ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
 {
-  LineReader  reader(path);
-  std::string line;
-  if (!reader.Next(line) || line.compare(0, 4, "NRRD") != 0)
+  std::ifstream stream(path, std::ios::binary);
+  std::string   line;
+  if (!NextLine(stream, line) || line.compare(0, 4, "NRRD") != 0)
   {
     problem = "it does not start with a NRRD header (NRRD000N)";
     return;
   }
   std::map<std::string, std::string> fields;
   bool                               ended = false;
-  while (reader.Next(line))
+  while (!ended && NextLine(stream, line))
   {
-    if (line.empty())
-    {
-      ended = true;
-      break;
-    }
+    ended = line.empty();
     const size_t colon = line.find(':');
-    if (line[0] == '#' || colon == std::string::npos || (colon + 1 < line.size() && line[colon + 1] == '='))
+    if (ended || line[0] == '#' || colon == std::string::npos || (colon + 1 < line.size() && line[colon + 1] == '='))
     {
       continue;
     }
@@ -338,8 +293,7 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
       break; // the data files' names follow to the end of the header
     }
   }
-  const std::uint64_t headerEnd = reader.Offset();
-  problem = SizesProblem("sizes:", Words(fields["sizes"]));
+  const std::vector<std::uint64_t> sizes = WholeSizes("sizes:", Words(fields["sizes"]), problem);
   if (!problem.empty())
   {
     parts.UnsafeForItk = true;
@@ -367,48 +321,35 @@ ReadNrrd(const fs::path & path, ImageFileParts & parts, std::string & problem)
       : NrrdTypeBytes(fields["type"]);
   if (typeBytes > 0)
   {
-    parts.DataBytes = DataBytesOf(Words(fields["sizes"]), typeBytes);
+    parts.DataBytes = Product(sizes, typeBytes);
   }
   const std::int64_t lineSkip = std::max<std::int64_t>(ParseLeadingInteger(fields["lineskip"]).value_or(0), 0);
-  const std::int64_t byteSkip = ParseLeadingInteger(fields["byteskip"]).value_or(0);
-
-  std::vector<fs::path> files;
-  const auto            dataFile = fields.find("datafile");
-  if (dataFile == fields.end())
+  // A negative byte skip other than -1 is taken as -1.
+  const std::int64_t      byteSkip = ParseLeadingInteger(fields["byteskip"]).value_or(0);
+  const std::uint64_t     skip = static_cast<std::uint64_t>(std::max<std::int64_t>(byteSkip, 0));
+  const ImageDataEncoding stored = raw       ? ImageDataEncoding::Raw
+                                   : deflate ? ImageDataEncoding::Deflate
+                                             : ImageDataEncoding::Unchecked;
+  const auto              addSegment = [&](const fs::path & file, std::uint64_t offset) {
+    offset = SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip)) + (raw ? skip : 0);
+    parts.Data.push_back({ file, stored, offset, (raw || deflate) && byteSkip < 0, deflate ? skip : 0, {} });
+  };
+  const auto dataFile = fields.find("datafile");
+  if (dataFile != fields.end())
   {
-    if (!ended)
+    for (const fs::path & file : DataFiles(path, dataFile->second, stream, parts))
     {
-      problem = "its header ends without the empty line after which the data starts";
-      return;
+      addSegment(file, 0);
     }
+  }
+  else if (!ended)
+  {
+    problem = "its header ends without the empty line after which the data starts";
   }
   else
   {
-    files = DataFiles(path, dataFile->second, reader, parts.DataFileSeries);
-  }
-
-  const auto addSegment = [&](const fs::path & file, std::uint64_t offset) {
-    ImageDataSegment segment;
-    segment.File = file;
-    segment.Encoding = raw       ? ImageDataEncoding::Raw
-                       : deflate ? ImageDataEncoding::Deflate
-                                 : ImageDataEncoding::Unchecked;
-    segment.Offset = LineReader::SkipLines(file, offset, static_cast<std::uint64_t>(lineSkip));
-    // A negative byte skip other than -1 is taken as -1.
-    segment.AtEnd = (raw || deflate) && byteSkip < 0;
-    const std::uint64_t skip = static_cast<std::uint64_t>(std::max<std::int64_t>(byteSkip, 0));
-    segment.Offset += raw ? skip : 0;
-    segment.InflatedOffset = deflate ? skip : 0;
-    parts.Data.push_back(segment);
-  };
-  if (files.empty() && dataFile == fields.end())
-  {
-    addSegment(path, headerEnd);
-  }
-  for (const fs::path & file : files)
-  {
-    AddFile(parts, file);
-    addSegment(file, 0);
+    stream.clear(); // a last line of "\r" alone leaves the stream at its end
+    addSegment(path, static_cast<std::uint64_t>(stream.tellg()));
   }
 }
 
@@ -433,11 +374,11 @@ constexpr std::size_t MetaIOFieldNameLength = 255;
 void
 ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & problem)
 {
-  LineReader                         reader(path);
+  std::ifstream                      stream(path, std::ios::binary);
   std::map<std::string, std::string> fields;
   std::string                        line;
   bool                               found = false;
-  while (!found && reader.Next(line))
+  while (!found && NextLine(stream, line))
   {
     const size_t equals = line.find('=');
     if (equals == std::string::npos)
@@ -502,8 +443,7 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       }
     }
   }
-  const std::uint64_t headerEnd = reader.Offset();
-  const bool          ended = reader.LineEnded();
+  const bool ended = !stream.eof();
 
   const std::vector<std::string>    sizes = Words(fields["DimSize"]);
   const std::optional<std::int64_t> dimensions = ParseInteger(fields["NDims"]);
@@ -520,8 +460,8 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
     parts.UnsafeForItk = true;
     return;
   }
-  const std::vector<std::string> axes(sizes.begin(), counted ? sizes.begin() + *dimensions : sizes.end());
-  problem = SizesProblem("DimSize =", axes);
+  const std::vector<std::uint64_t> axes = WholeSizes(
+    "DimSize =", std::vector<std::string>(sizes.begin(), counted ? sizes.begin() + *dimensions : sizes.end()), problem);
   if (!problem.empty())
   {
     parts.UnsafeForItk = true;
@@ -529,11 +469,11 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   }
   if (typeBytes > 0 && counted && channels && *channels >= 1)
   {
-    parts.DataBytes = DataBytesOf(axes, SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
+    parts.DataBytes = Product(axes, SaturatingProduct(typeBytes, static_cast<std::uint64_t>(*channels)));
   }
   if (parts.TextData && counted && channels && *channels >= 1)
   {
-    parts.TextValues = DataBytesOf(axes, static_cast<std::uint64_t>(*channels));
+    parts.TextValues = Product(axes, static_cast<std::uint64_t>(*channels));
   }
   const bool         compressed = Lowercase(fields["CompressedData"]) == "true";
   const std::int64_t headerSize = ParseLeadingInteger(fields["HeaderSize"]).value_or(0);
@@ -558,17 +498,15 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
       return;
     }
     // MetaIO honours HeaderSize here too: the voxels start there, or are the file's last bytes.
-    addSegment(path, headerEnd);
+    addSegment(path, static_cast<std::uint64_t>(stream.tellg()));
     return;
   }
-  bool series = false;
-  for (const fs::path & file : DataFiles(path, value, reader, series))
+  for (const fs::path & file : DataFiles(path, value, stream, parts))
   {
-    AddFile(parts, file);
     addSegment(file, 0);
   }
   // MetaIO reads any name with a % as a numbered series, whose first and last numbers and step may be left out.
-  parts.DataFileSeries = series || value.find('%') != std::string::npos;
+  parts.DataFileSeries = parts.DataFileSeries || value.find('%') != std::string::npos;
   // Each file of a series holds the next slice of the last NDims - 1 axes, or of "LIST ND"'s N; MetaIO reads no
   // more from it, and leaves the voxels of a file it cannot read as they were.
   const bool    listed = value.compare(0, 4, "LIST") == 0;
@@ -581,7 +519,7 @@ ReadMetaImage(const fs::path & path, ImageFileParts & parts, std::string & probl
   if (parts.DataFileSeries && !parts.TextData && (listed || Words(value).size() <= 4) && parts.DataBytes &&
       axes.size() >= 2)
   {
-    parts.SeriesFiles = DataBytesOf(std::vector<std::string>(axes.begin() + fileAxes, axes.end()), 1).value_or(0);
+    parts.SeriesFiles = Product(axes, 1, fileAxes);
     parts.SeriesFileBytes = parts.SeriesFiles > 0 ? *parts.DataBytes / parts.SeriesFiles : 0;
   }
 }
@@ -712,7 +650,7 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
       sizes.push_back(std::to_string(dimension(i)));
     }
     // ITK's NIfTI reader takes a size below 1 as 1, and reads a part of the voxels as the whole image.
-    problem = SizesProblem("dim[1..dim[0]] =", sizes);
+    const std::vector<std::uint64_t> whole = WholeSizes("dim[1..dim[0]] =", sizes, problem);
     if (!problem.empty())
     {
       parts.UnsafeForItk = true;
@@ -720,7 +658,7 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
     }
     if (bitsPerVoxel > 0 && bitsPerVoxel % 8 == 0)
     {
-      parts.DataBytes = DataBytesOf(sizes, static_cast<std::uint64_t>(bitsPerVoxel / 8));
+      parts.DataBytes = Product(whole, static_cast<std::uint64_t>(bitsPerVoxel / 8));
     }
   }
   std::uint64_t voxelOffset = 0;
@@ -744,12 +682,9 @@ ReadNifti(const fs::path & path, ImageFileParts & parts, std::string & problem)
     return;
   }
   // The voxels of a .gz file start at that offset of its inflated data.
-  const bool       gzip = EndsWith(Lowercase(data.filename().string()), ".gz");
-  ImageDataSegment segment;
-  segment.File = data;
-  segment.Encoding = gzip ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
-  (gzip ? segment.InflatedOffset : segment.Offset) = voxelOffset;
-  parts.Data.push_back(segment);
+  const bool gzip = EndsWith(Lowercase(data.filename().string()), ".gz");
+  const auto encoding = gzip ? ImageDataEncoding::Deflate : ImageDataEncoding::Raw;
+  parts.Data.push_back({ data, encoding, gzip ? 0 : voxelOffset, false, gzip ? voxelOffset : 0, {} });
 }
 } // namespace
 
