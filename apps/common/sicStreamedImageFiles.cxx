@@ -30,6 +30,7 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 namespace sic
 {
@@ -138,7 +139,6 @@ struct PlaneReader::Data
 {
   std::unique_ptr<std::FILE, int (*)(std::FILE *)> File{ nullptr, std::fclose };
   ImageDataSegment                                 Where;
-  bool                                             Compressed{ false };
   bool                                             BigEndian{ false };
   std::unique_ptr<InflateInput>                    Input;
   bool                                             StreamEnded{ false };
@@ -166,19 +166,15 @@ struct PlaneReader::Data
 };
 
 PlaneReader::PlaneReader(const std::string & path, const std::string & what)
-  : m_Path(path)
-  , m_What(what)
+  : m_Name(what + " " + Quoted(path))
   , m_Data(std::make_unique<Data>())
 {
-  if (!IsStreamableImageFile(path))
-  {
-    throw ToolError("cannot stream " + what + " " + Quoted(path) + ": " + StreamableFormats());
-  }
+  const auto cannotRead = [&](const std::string & why) { throw ToolError("cannot read " + m_Name + ": " + why); };
   itk::ImageIOBase::Pointer io =
     itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
   if (!io)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": not a MetaImage or NRRD file ITK can read");
+    cannotRead("not a MetaImage or NRRD file ITK can read");
   }
   io->SetFileName(path);
   try
@@ -187,64 +183,51 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
   }
   catch (const itk::ExceptionObject & exception)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": " + ItkErrorText(exception.GetDescription()));
+    cannotRead(ItkErrorText(exception.GetDescription()));
   }
-  m_Geometry.Dimension = io->GetNumberOfDimensions();
+  const unsigned int n = io->GetNumberOfDimensions();
+  m_Geometry.Dimension = n;
   m_Geometry.ComponentType = io->GetComponentType();
-  for (unsigned int a = 0; a < m_Geometry.Dimension; ++a)
+  m_Geometry.Direction.resize(n * n);
+  for (unsigned int a = 0; a < n; ++a)
   {
+    // As ITK's reader does for the in-memory mode: a negative spacing is made positive and its axis's direction
+    // flipped, which places every voxel where it was (and gives --max-volume a positive voxel volume).
+    const double sign = io->GetSpacing(a) < 0.0 ? -1.0 : 1.0;
     m_Geometry.Size.push_back(io->GetDimensions(a));
-    m_Geometry.Spacing.push_back(io->GetSpacing(a));
+    m_Geometry.Spacing.push_back(sign * io->GetSpacing(a));
     m_Geometry.Origin.push_back(io->GetOrigin(a));
-  }
-  for (unsigned int row = 0; row < m_Geometry.Dimension; ++row)
-  {
-    for (unsigned int column = 0; column < m_Geometry.Dimension; ++column)
+    for (unsigned int row = 0; row < n; ++row)
     {
-      m_Geometry.Direction.push_back(io->GetDirection(column)[row]);
-    }
-  }
-  // As ITK's reader does for the in-memory mode: a negative spacing is made positive and its axis's direction flipped,
-  // which places every voxel where it was (and gives --max-volume a positive voxel volume).
-  for (unsigned int column = 0; column < m_Geometry.Dimension; ++column)
-  {
-    if (m_Geometry.Spacing[column] < 0.0)
-    {
-      m_Geometry.Spacing[column] = -m_Geometry.Spacing[column];
-      for (unsigned int row = 0; row < m_Geometry.Dimension; ++row)
-      {
-        double & cosine = m_Geometry.Direction[row * m_Geometry.Dimension + column];
-        cosine = cosine == 0.0 ? 0.0 : -cosine; // no "-0" in the header written
-      }
+      // No "-0" in the header written.
+      m_Geometry.Direction[row * n + a] = io->GetDirection(a)[row] == 0.0 ? 0.0 : sign * io->GetDirection(a)[row];
     }
   }
 
   Data &               data = *m_Data;
   const ImageFileParts parts = StreamedParts(path, what);
   data.Where = parts.Data.front();
-  data.Compressed = data.Where.Encoding == ImageDataEncoding::Deflate;
   data.BigEndian = parts.BigEndian;
   data.BytesTotal = m_Geometry.PlaneVoxels() * m_Geometry.Planes() * m_Geometry.PixelBytes();
+  const bool      compressed = data.Where.Encoding == ImageDataEncoding::Deflate;
+  const auto      dataFile = "its data file " + Quoted(data.Where.File);
   std::error_code error;
   const auto      fileSize = std::filesystem::file_size(data.Where.File, error);
   if (error)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.File) +
-                    " cannot be opened (" + error.message() + ")");
+    cannotRead(dataFile + " cannot be opened (" + error.message() + ")");
   }
   if (!std::filesystem::is_regular_file(data.Where.File))
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": its data file " + Quoted(data.Where.File) +
-                    " is not a regular file");
+    cannotRead(dataFile + " is not a regular file");
   }
   data.File.reset(std::fopen(data.Where.File.string().c_str(), "rb"));
   if (!data.File)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot open its data file " +
-                    Quoted(data.Where.File) + " (" + std::strerror(errno) + ")");
+    cannotRead("cannot open " + dataFile + " (" + std::strerror(errno) + ")");
   }
   uint64_t offset = data.Where.Offset;
-  if (!data.Compressed)
+  if (!compressed)
   {
     if (data.Where.AtEnd)
     {
@@ -252,21 +235,21 @@ PlaneReader::PlaneReader(const std::string & path, const std::string & what)
     }
     if (fileSize < offset + data.BytesTotal)
     {
-      throw ToolError(what + " " + Quoted(path) + " is truncated: its header promises " +
-                      std::to_string(data.BytesTotal) + " bytes of voxels but its data file " +
-                      Quoted(data.Where.File) + " holds " + std::to_string(fileSize > offset ? fileSize - offset : 0));
+      throw ToolError(m_Name + " is truncated: its header promises " + std::to_string(data.BytesTotal) +
+                      " bytes of voxels but " + dataFile + " holds " +
+                      std::to_string(fileSize > offset ? fileSize - offset : 0));
     }
   }
   if (fseeko(data.File.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
   {
-    throw ToolError("cannot read " + what + " " + Quoted(path) + ": cannot seek in its data file");
+    cannotRead("cannot seek in its data file");
   }
-  if (data.Compressed)
+  if (compressed)
   {
     data.Input = std::make_unique<InflateInput>(data.File.get());
     if (!data.Input->Start())
     {
-      throw ToolError("cannot read " + what + " " + Quoted(path) + ": the decompressor could not start");
+      cannotRead("the decompressor could not start");
     }
   }
 }
@@ -280,13 +263,13 @@ PlaneReader::Read(void * buffer, uint64_t planes)
   const uint64_t bytes = planes * m_Geometry.PlaneVoxels() * m_Geometry.PixelBytes();
   if (data.BytesRead + bytes > data.BytesTotal)
   {
-    throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": more planes asked for than it has");
+    throw ToolError("cannot read " + m_Name + ": more planes asked for than it has");
   }
-  if (!data.Compressed)
+  if (!data.Input)
   {
     if (std::fread(buffer, 1, bytes, data.File.get()) != bytes)
     {
-      throw ToolError("cannot read " + m_What + " " + Quoted(m_Path) + ": its data file " + Quoted(data.Where.File) +
+      throw ToolError("cannot read " + m_Name + ": its data file " + Quoted(data.Where.File) +
                       " ended early or could not be read");
     }
   }
@@ -305,12 +288,11 @@ PlaneReader::Read(void * buffer, uint64_t planes)
                                std::to_string(data.BytesTotal) + " bytes of voxels its header promises";
       if (data.StreamEnded)
       {
-        throw ToolError(m_What + " " + Quoted(m_Path) + " is truncated: its compressed data hold " + held);
+        throw ToolError(m_Name + " is truncated: its compressed data hold " + held);
       }
       const auto chunk = static_cast<uInt>(std::min<uint64_t>(left, uint64_t{ 1 } << 30));
       stream.avail_out = chunk;
-      const int status =
-        data.Inflate(m_What + " " + Quoted(m_Path), " is truncated: its compressed data end after " + held);
+      const int status = data.Inflate(m_Name, " is truncated: its compressed data end after " + held);
       left -= chunk - stream.avail_out;
       data.StreamEnded = status == Z_STREAM_END;
     }
@@ -330,7 +312,7 @@ void
 PlaneReader::Finish()
 {
   Data & data = *m_Data;
-  if (data.BytesRead != data.BytesTotal || !data.Compressed)
+  if (data.BytesRead != data.BytesTotal || !data.Input)
   {
     return;
   }
@@ -340,12 +322,11 @@ PlaneReader::Finish()
   {
     data.Input->Stream().next_out = scratch;
     data.Input->Stream().avail_out = sizeof(scratch);
-    data.StreamEnded = data.Inflate(m_What + " " + Quoted(m_Path),
-                                    " is truncated: its compressed data stop before their end") == Z_STREAM_END;
+    data.StreamEnded = data.Inflate(m_Name, " is truncated: its compressed data stop before their end") == Z_STREAM_END;
     if (data.Input->Stream().avail_out != sizeof(scratch))
     {
-      throw ToolError(m_What + " " + Quoted(m_Path) + " is inconsistent: its compressed data inflate to " +
-                      "more than the " + std::to_string(data.BytesTotal) +
+      throw ToolError(m_Name + " is inconsistent: its compressed data inflate to more than the " +
+                      std::to_string(data.BytesTotal) +
                       " bytes of voxels its header describes; expected exactly as many");
     }
   }
@@ -353,10 +334,10 @@ PlaneReader::Finish()
 
 struct PlaneWriter::Output
 {
-  ImageFileFormat      Kind{ ImageFileFormat::Other };
-  bool                 Detached{ false };
-  std::string          DataPath;
-  std::string          DataName;
+  ImageFileFormat Kind{ ImageFileFormat::Other };
+  bool            Detached{ false };
+  std::string     DataName;
+  /** A detached header; an attached one is written to File. */
   std::FILE *          Header{ nullptr };
   std::FILE *          File{ nullptr };
   long                 SizeFieldAt{ -1 };
@@ -371,13 +352,12 @@ struct PlaneWriter::Output
     {
       deflateEnd(&Stream);
     }
-    if (File != nullptr)
+    for (std::FILE * file : { File, Header })
     {
-      std::fclose(File);
-    }
-    if (Header != nullptr && Header != File)
-    {
-      std::fclose(Header);
+      if (file != nullptr)
+      {
+        std::fclose(file);
+      }
     }
   }
 
@@ -396,17 +376,20 @@ struct PlaneWriter::Output
 
 namespace
 {
-/** The header text, without its last line when MetaImage (ElementDataFile comes last). */
+/** The header text; MetaImage's CompressedDataSize is \a compressedSize. */
 std::string
-MetaImageHeader(const VolumeGeometry & geometry, bool compress, const std::string & dataFile, bool sizePlaceholder)
+MetaImageHeader(const VolumeGeometry & geometry,
+                bool                   compress,
+                const std::string &    dataFile,
+                const std::string &    compressedSize)
 {
   std::ostringstream header;
   const unsigned int n = geometry.Dimension;
   header << "ObjectType = Image\nNDims = " << n << "\nBinaryData = True\nBinaryDataByteOrderMSB = False\n";
   header << "CompressedData = " << (compress ? "True" : "False") << "\n";
-  if (compress && sizePlaceholder)
+  if (compress)
   {
-    header << "CompressedDataSize = " << std::string(20, '0') << "\n";
+    header << "CompressedDataSize = " << compressedSize << "\n";
   }
   // MetaImage lists each axis's direction in turn.
   header << "TransformMatrix =";
@@ -455,16 +438,30 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
   {
     header << (a ? "," : "") << Number(geometry.Origin[a]);
   }
-  header << ")\n";
-  if (!dataFile.empty())
-  {
-    header << "data file: " << dataFile << "\n";
-  }
-  else
-  {
-    header << "\n";
-  }
+  header << ")\n" << (dataFile.empty() ? "" : "data file: " + dataFile) << "\n";
   return header.str();
+}
+
+bool
+WriteAll(std::FILE * file, const std::string & text)
+{
+  return std::fwrite(text.data(), 1, text.size(), file) == text.size();
+}
+
+/** Flushes and closes \a file, which is null afterwards; false when that fails. */
+bool
+Closed(std::FILE *& file)
+{
+  std::FILE * closing = std::exchange(file, nullptr);
+  const bool  flushed = std::fflush(closing) == 0 && !std::ferror(closing);
+  return std::fclose(closing) == 0 && flushed;
+}
+
+/** The error of a write that failed, e.g. on a full disk. */
+ToolError
+WriteFailed(const std::string & name)
+{
+  return ToolError("cannot write " + name + ": " + std::strerror(errno) + " (is the disk full?)");
 }
 } // namespace
 
@@ -474,8 +471,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
                          const VolumeGeometry & geometry,
                          bool                   compress)
   : m_Path(path)
-  , m_FinalPath(finalPath)
-  , m_What(what)
+  , m_Name(what + " " + Quoted(finalPath))
   , m_Geometry(geometry)
   , m_Compress(compress)
   , m_Output(std::make_unique<Output>())
@@ -485,21 +481,18 @@ PlaneWriter::PlaneWriter(const std::string &    path,
   out.Kind = ImageFileFormatOf(finalPath);
   if (!IsStreamableImageFile(finalPath) || FindPixelType(geometry.ComponentType) == nullptr)
   {
-    throw ToolError("cannot stream " + what + " " + Quoted(finalPath) + ": " + StreamableFormats());
+    throw ToolError("cannot stream " + m_Name + ": " + StreamableFormats());
   }
   out.Detached = EndsWith(name, ".mhd") || EndsWith(name, ".nhdr");
   const auto fail = [&](const std::string & file) {
-    throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": cannot create " + file + " (" +
-                    std::strerror(errno) + ")");
+    throw ToolError("cannot write " + m_Name + ": cannot create " + file + " (" + std::strerror(errno) + ")");
   };
   if (out.Detached)
   {
-    const std::filesystem::path staged(path);
-    const std::string           stem = std::filesystem::path(finalPath).stem().string();
+    const std::string stem = std::filesystem::path(finalPath).stem().string();
     out.DataName =
       stem + (out.Kind == ImageFileFormat::MetaImage ? (compress ? ".zraw" : ".raw") : (compress ? ".raw.gz" : ".raw"));
-    out.DataPath = (staged.parent_path() / out.DataName).string();
-    out.File = std::fopen(out.DataPath.c_str(), "wb");
+    out.File = std::fopen((std::filesystem::path(path).parent_path() / out.DataName).string().c_str(), "wb");
     if (out.File == nullptr)
     {
       fail("its data file");
@@ -508,12 +501,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
     {
       // A NRRD header names no size: write it now.
       out.Header = std::fopen(path.c_str(), "wb");
-      if (out.Header == nullptr)
-      {
-        fail("its header");
-      }
-      const std::string header = NrrdHeader(geometry, compress, out.DataName);
-      if (std::fwrite(header.data(), 1, header.size(), out.Header) != header.size())
+      if (out.Header == nullptr || !WriteAll(out.Header, NrrdHeader(geometry, compress, out.DataName)))
       {
         fail("its header");
       }
@@ -526,18 +514,18 @@ PlaneWriter::PlaneWriter(const std::string &    path,
     {
       fail("the file");
     }
-    out.Header = out.File;
+    // MetaImage's CompressedDataSize is filled in when it is known.
     const std::string header = out.Kind == ImageFileFormat::MetaImage
-                                 ? MetaImageHeader(geometry, compress, "LOCAL", true)
+                                 ? MetaImageHeader(geometry, compress, "LOCAL", std::string(20, '0'))
                                  : NrrdHeader(geometry, compress, "");
     if (out.Kind == ImageFileFormat::MetaImage && compress)
     {
       const std::string field = "CompressedDataSize = ";
       out.SizeFieldAt = static_cast<long>(header.find(field) + field.size());
     }
-    if (std::fwrite(header.data(), 1, header.size(), out.File) != header.size())
+    if (!WriteAll(out.File, header))
     {
-      throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": " + std::strerror(errno));
+      throw ToolError("cannot write " + m_Name + ": " + std::strerror(errno));
     }
   }
   if (compress)
@@ -546,7 +534,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
     const int windowBits = out.Kind == ImageFileFormat::Nrrd ? 15 + 16 : 15;
     if (deflateInit2(&out.Stream, 1, Z_DEFLATED, windowBits, 8, Z_DEFAULT_STRATEGY) != Z_OK)
     {
-      throw ToolError("cannot write " + what + " " + Quoted(finalPath) + ": the compressor could not start");
+      throw ToolError("cannot write " + m_Name + ": the compressor could not start");
     }
     out.Deflating = true;
     out.Out.resize(CompressedChunk);
@@ -562,17 +550,13 @@ PlaneWriter::Write(const void * buffer, uint64_t planes)
   const uint64_t bytes = planes * m_Geometry.PlaneVoxels() * m_Geometry.PixelBytes();
   if (m_PlanesWritten + planes > m_Geometry.Planes())
   {
-    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": more planes than the image has");
+    throw ToolError("cannot write " + m_Name + ": more planes than the image has");
   }
-  const auto failed = [&] {
-    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": " + std::strerror(errno) +
-                    " (is the disk full?)");
-  };
   if (!m_Compress)
   {
     if (std::fwrite(buffer, 1, bytes, out.File) != bytes)
     {
-      failed();
+      throw WriteFailed(m_Name);
     }
   }
   else
@@ -590,7 +574,7 @@ PlaneWriter::Write(const void * buffer, uint64_t planes)
       int status = Z_OK;
       if (!out.Deflate(Z_NO_FLUSH, status))
       {
-        failed();
+        throw WriteFailed(m_Name);
       }
     }
   }
@@ -600,15 +584,11 @@ PlaneWriter::Write(const void * buffer, uint64_t planes)
 void
 PlaneWriter::Finish()
 {
-  Output &   out = *m_Output;
-  const auto failed = [&] {
-    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": " + std::strerror(errno) +
-                    " (is the disk full?)");
-  };
+  Output & out = *m_Output;
   if (m_PlanesWritten != m_Geometry.Planes())
   {
-    throw ToolError("cannot write " + m_What + " " + Quoted(m_FinalPath) + ": only " + std::to_string(m_PlanesWritten) +
-                    " of its " + std::to_string(m_Geometry.Planes()) + " planes were written");
+    throw ToolError("cannot write " + m_Name + ": only " + std::to_string(m_PlanesWritten) + " of its " +
+                    std::to_string(m_Geometry.Planes()) + " planes were written");
   }
   if (m_Compress)
   {
@@ -616,7 +596,7 @@ PlaneWriter::Finish()
     {
       if (!out.Deflate(Z_FINISH, status))
       {
-        failed();
+        throw WriteFailed(m_Name);
       }
     }
     deflateEnd(&out.Stream);
@@ -627,52 +607,28 @@ PlaneWriter::Finish()
     // Fill in the compressed size, zero-padded to the placeholder's width.
     std::string size = std::to_string(out.CompressedBytes);
     size.insert(0, 20 - size.size(), '0');
-    if (fseeko(out.File, out.SizeFieldAt, SEEK_SET) != 0 ||
-        std::fwrite(size.data(), 1, size.size(), out.File) != size.size())
+    if (fseeko(out.File, out.SizeFieldAt, SEEK_SET) != 0 || !WriteAll(out.File, size))
     {
-      failed();
+      throw WriteFailed(m_Name);
     }
   }
-  if (std::fflush(out.File) != 0 || std::ferror(out.File))
+  if (!Closed(out.File))
   {
-    failed();
-  }
-  std::FILE * file = out.File;
-  out.File = nullptr;
-  if (std::fclose(file) != 0)
-  {
-    failed();
-  }
-  if (out.Header == file)
-  {
-    out.Header = nullptr;
+    throw WriteFailed(m_Name);
   }
   if (out.Detached && out.Kind == ImageFileFormat::MetaImage)
   {
     out.Header = std::fopen(m_Path.c_str(), "wb");
-    if (out.Header == nullptr)
+    if (out.Header == nullptr ||
+        !WriteAll(out.Header,
+                  MetaImageHeader(m_Geometry, m_Compress, out.DataName, std::to_string(out.CompressedBytes))))
     {
-      failed();
-    }
-    std::string header = MetaImageHeader(m_Geometry, m_Compress, out.DataName, false);
-    if (m_Compress)
-    {
-      const std::string before = "TransformMatrix";
-      header.insert(header.find(before), "CompressedDataSize = " + std::to_string(out.CompressedBytes) + "\n");
-    }
-    if (std::fwrite(header.data(), 1, header.size(), out.Header) != header.size())
-    {
-      failed();
+      throw WriteFailed(m_Name);
     }
   }
-  if (out.Header != nullptr)
+  if (out.Header != nullptr && !Closed(out.Header))
   {
-    std::FILE * header = out.Header;
-    out.Header = nullptr;
-    if (std::fflush(header) != 0 || std::ferror(header) || std::fclose(header) != 0)
-    {
-      failed();
-    }
+    throw WriteFailed(m_Name);
   }
 }
 } // namespace sic

@@ -91,8 +91,7 @@ public:
 
 private:
   struct Data;
-  std::string           m_Path;
-  std::string           m_What;
+  std::string           m_Name;
   VolumeGeometry        m_Geometry;
   std::unique_ptr<Data> m_Data;
 };
@@ -123,8 +122,7 @@ public:
 private:
   struct Output;
   std::string             m_Path;
-  std::string             m_FinalPath;
-  std::string             m_What;
+  std::string             m_Name;
   VolumeGeometry          m_Geometry;
   bool                    m_Compress;
   uint64_t                m_PlanesWritten{ 0 };
