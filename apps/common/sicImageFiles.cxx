@@ -77,42 +77,35 @@ SupportedPixelTypes()
 ScalarImageInfo
 ReadScalarImageInfo(const std::string & path, const std::string & what)
 {
-  const std::string quoted = "'" + path + "'";
+  const std::string name = what + " " + Quoted(path);
+  const auto        cannotRead = [&](const std::string & why) { throw ToolError("cannot read " + name + ": " + why); };
   std::error_code   error;
   const auto        status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status))
   {
-    throw ToolError("cannot read " + what + " " + quoted + ": no such file; expected an existing image file");
+    cannotRead("no such file; expected an existing image file");
   }
   if (std::filesystem::is_directory(status))
   {
-    throw ToolError("cannot read " + what + " " + quoted + ": it is a directory; expected an image file");
+    cannotRead("it is a directory; expected an image file");
   }
   if (!std::filesystem::is_regular_file(status))
   {
-    throw ToolError("cannot read " + what + " " + quoted +
-                    ": it is not a regular file (a FIFO, device or socket); expected an image file");
+    cannotRead("it is not a regular file (a FIFO, device or socket); expected an image file");
   }
   const auto refuse = [&](const std::string & problem) {
     const bool saysExpected = problem.find("; expected") != std::string::npos;
-    throw ToolError(what + " " + quoted + " " + (problem.compare(0, 3, "is ") == 0 ? "" : "cannot be read: ") +
-                    problem + (saysExpected ? "" : "; expected a complete, intact image file"));
+    throw ToolError(name + " " + (problem.compare(0, 3, "is ") == 0 ? "" : "cannot be read: ") + problem +
+                    (saysExpected ? "" : "; expected a complete, intact image file"));
   };
   // The data files are checked before ITK reads the header: its NRRD reader opens them, and would wait forever
   // for a FIFO. A header only this parser finds fault with is refused after ITK had its say.
   std::string          headerProblem;
   const ImageFileParts parts = FindImageFileParts(path, headerProblem);
-  if (parts.UnsafeForItk)
+  const std::string    dataProblem = headerProblem.empty() ? ImageFileProblem(parts) : "";
+  if (parts.UnsafeForItk || !dataProblem.empty())
   {
-    refuse(headerProblem);
-  }
-  if (headerProblem.empty())
-  {
-    const std::string dataProblem = ImageFileProblem(parts);
-    if (!dataProblem.empty())
-    {
-      refuse(dataProblem);
-    }
+    refuse(parts.UnsafeForItk ? headerProblem : dataProblem);
   }
   itk::ImageIOBase::Pointer io =
     itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
@@ -129,9 +122,8 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   if (!io)
   {
-    throw ToolError("cannot read " + what + " " + quoted +
-                    ": not an image file ITK can read; expected e.g. NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), "
-                    "MetaImage (.mha, .mhd) or PNG");
+    cannotRead("not an image file ITK can read; expected e.g. NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), "
+               "MetaImage (.mha, .mhd) or PNG");
   }
   io->SetFileName(path);
   try
@@ -140,7 +132,7 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   catch (const itk::ExceptionObject & exception)
   {
-    throw ToolError("cannot read " + what + " " + quoted + ": " + ItkErrorText(exception.GetDescription()));
+    cannotRead(ItkErrorText(exception.GetDescription()));
   }
 
   ScalarImageInfo info;
@@ -148,18 +140,18 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   info.Dimension = io->GetNumberOfDimensions();
   if (io->GetNumberOfComponents() != 1)
   {
-    throw ToolError(what + " " + quoted + " has " + std::to_string(io->GetNumberOfComponents()) +
-                    " components per pixel (" + itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
+    throw ToolError(name + " has " + std::to_string(io->GetNumberOfComponents()) + " components per pixel (" +
+                    itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
                     "); expected a scalar image, one value per voxel");
   }
   if (FindPixelType(info.ComponentType) == nullptr)
   {
-    throw ToolError(what + " " + quoted + " has pixel type " + PixelTypeName(info.ComponentType) +
+    throw ToolError(name + " has pixel type " + PixelTypeName(info.ComponentType) +
                     ", which is not supported; expected one of " + SupportedPixelTypes());
   }
   if (info.Dimension != 2 && info.Dimension != 3)
   {
-    throw ToolError(what + " " + quoted + " is " + std::to_string(info.Dimension) + "-D; expected a 2-D or 3-D image");
+    throw ToolError(name + " is " + std::to_string(info.Dimension) + "-D; expected a 2-D or 3-D image");
   }
   std::string size;
   for (unsigned int axis = 0; axis < info.Dimension; ++axis)
@@ -171,35 +163,28 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   }
   if (std::find(info.Size.begin(), info.Size.end(), 0) != info.Size.end())
   {
-    throw ToolError(what + " " + quoted + " is empty: its size is " + size +
-                    " voxels; expected at least one voxel along every axis");
+    throw ToolError(name + " is empty: its size is " + size + " voxels; expected at least one voxel along every axis");
   }
+  // ITK's reader refuses a spacing of 0, and a direction matrix of determinant (exactly) 0, only when it reads the
+  // voxels, and the streaming reader reads none of it; the same tests as ITK's, so that both modes refuse the same
+  // files.
+  vnl_matrix<double> direction(info.Dimension, info.Dimension);
   for (unsigned int axis = 0; axis < info.Dimension; ++axis)
   {
-    // ITK's reader refuses a spacing of 0 only when it reads the voxels, and the streaming reader reads none of it.
     if (info.Spacing[axis] == 0.0 || !std::isfinite(info.Spacing[axis]))
     {
       std::ostringstream spacing;
       spacing << info.Spacing[axis];
-      throw ToolError(what + " " + quoted + " has a spacing of " + spacing.str() + " along axis " +
-                      std::to_string(axis) + "; expected a nonzero, finite spacing along every axis");
+      throw ToolError(name + " has a spacing of " + spacing.str() + " along axis " + std::to_string(axis) +
+                      "; expected a nonzero, finite spacing along every axis");
     }
-  }
-  // ITK's reader refuses a direction matrix of determinant (exactly) 0 only when it reads the voxels too; the same
-  // test as ITK's, so that both modes refuse the same files.
-  vnl_matrix<double> direction(info.Dimension, info.Dimension);
-  for (unsigned int axis = 0; axis < info.Dimension; ++axis)
-  {
     direction.set_column(axis, io->GetDirection(axis).data());
   }
-  const double determinant = vnl_determinant(direction);
-  if (determinant == 0.0)
+  if (vnl_determinant(direction) == 0.0)
   {
-    throw ToolError(what + " " + quoted +
-                    " has a direction matrix of determinant 0 (its axes do not span the space); expected axes in "
-                    "independent directions");
+    throw ToolError(name + " has a direction matrix of determinant 0 (its axes do not span the space); expected axes "
+                           "in independent directions");
   }
-
   if (!headerProblem.empty())
   {
     refuse(headerProblem);
