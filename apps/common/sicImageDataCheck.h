@@ -35,12 +35,10 @@
 namespace sic
 {
 /** Why the image file of \a parts does not hold all its voxels, as a phrase to follow the file's name (e.g. "is
- * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does, or when
- * its format is ImageFileFormat::Other. Checks that every data file is a regular file; that raw data has as many bytes
- * as the header describes (without reading them); that compressed data is complete zlib or gzip streams whose checksums
- * (and gzip lengths) match, inflating to exactly the bytes the header describes (reading them once), and for MetaImage
- * that its CompressedDataSize is what its stream takes; and that a PNG file's chunks are complete, pass their CRCs and
- * end with IEND. Data files are named as they are given: callers that show other names replace them. */
+ * incomplete: its data file 'x.raw' holds 10 bytes and its header describes 3400000000"); empty when it does, or for
+ * ImageFileFormat::Other. Data files must be regular files; raw data as long as the header describes; compressed data
+ * complete zlib or gzip streams that pass their checksums and inflate to exactly those bytes (and MetaImage's
+ * CompressedDataSize what its stream takes); a PNG file's chunks complete, passing their CRCs, up to IEND. */
 std::string
 ImageFileProblem(const ImageFileParts & parts);
 
@@ -51,21 +49,20 @@ struct InflatedData
   std::uint64_t CompressedBytes{ 0 };
 };
 
-/** Inflates the zlib or gzip stream that starts at byte \a offset of \a file, checking its checksum, and with
- * \a members the gzip members that follow it, as NRRD and NIfTI readers do (anything after the last one is
- * ignored, as zlib's own reader ignores it; a first stream that is not gzip is refused); MetaImage's reader takes
- * the first stream alone. Sets \a problem ("is missing", "is cut short", "fails its checksum (incorrect data
- * check)", "is corrupt (...)", "is not gzip data (...)") when the data is not complete, intact zlib or gzip data. */
+/** Inflates the zlib or gzip stream at byte \a offset of \a file, checking its checksum, and with \a members the gzip
+ * members that follow it, as NRRD's and NIfTI's readers do (then the first must be gzip; what follows the last is
+ * ignored, as zlib's reader ignores it); MetaImage's reader takes the first stream alone. Sets \a problem ("is
+ * missing", "is cut short", "fails its checksum (...)", "is corrupt (...)", "is not gzip data (...)") when the data
+ * are not complete, intact zlib or gzip data. */
 InflatedData
 Inflate(const std::filesystem::path & file, std::uint64_t offset, bool members, std::string & problem);
 
-/** The \a problem Inflate() found in \a data (e.g. "its compressed data") as a phrase to follow the file's name:
- * "is incomplete: ..." for data that are missing or cut short, "is corrupt: ..." for data that do not decode. */
+/** The \a problem Inflate() found in \a data (e.g. "its compressed data") as a phrase to follow the file's name. */
 std::string
 CompressedDataProblem(const std::string & data, const std::string & problem);
 
-/** Feeds zlib's stream with the zlib or gzip data of a file, read from where the file stands on (the file is not
- * owned), and starts the gzip members that follow one another: what Inflate() and the streaming reader share. */
+/** Feeds zlib's stream with the zlib or gzip data of a file (not owned) from where it stands, gzip member after
+ * member: what Inflate() and the streaming reader share. */
 class InflateInput
 {
 public:
@@ -89,8 +86,7 @@ public:
   bool
   Fill();
 
-  /** After a stream ended: starts inflating the gzip member that follows it, if one does (pigz, bgzip and
-   * concatenated gzip files have several); false when none does. */
+  /** After a stream ended: starts the gzip member that follows, if any (pigz, bgzip and concatenated files). */
   bool
   NextMember();
 

@@ -29,11 +29,10 @@ namespace sic
 /** How a stretch of an image file's voxels is stored. */
 enum class ImageDataEncoding
 {
-  /** The voxels' bytes as they are. */
   Raw,
-  /** One or more zlib or gzip streams that inflate to the voxels. */
+  /** One or more zlib or gzip streams. */
   Deflate,
-  /** An encoding the tools do not check (NRRD's ascii, hex or bzip2): ITK's reader alone does. */
+  /** NRRD's ascii, hex or bzip2: ITK's reader alone checks these. */
   Unchecked
 };
 
@@ -44,26 +43,22 @@ struct ImageDataSegment
   ImageDataEncoding     Encoding{ ImageDataEncoding::Raw };
   /** Bytes of File before the data: the header, NRRD's line skip and (raw) byte skip. */
   std::uint64_t Offset{ 0 };
-  /** The voxels are the last bytes of File (NRRD's byte skip -1, MetaImage's HeaderSize -1); for Deflate, of
-   * the inflated data (NRRD's byte skip -1 of compressed data, which streaming refuses). Any negative byte skip is
-   * taken as -1. */
+  /** The voxels are the last bytes of File, or of the inflated data (a negative NRRD byte skip, MetaImage's
+   * HeaderSize -1). */
   bool AtEnd{ false };
-  /** Deflate only: bytes of the inflated data before the voxels (NIfTI's vox_offset in a .nii.gz, NRRD's byte
-   * skip of compressed data). */
+  /** Deflate only: bytes of the inflated data before the voxels (a .nii.gz's vox_offset, NRRD's byte skip). */
   std::uint64_t InflatedOffset{ 0 };
-  /** Deflate, MetaImage only: its CompressedDataSize, the bytes ITK's reader takes from Offset on and inflates as
-   * one stream; none when the header gives no whole number of bytes there. */
+  /** Deflate, MetaImage only: its CompressedDataSize, the bytes ITK's reader inflates as one stream, when whole. */
   std::optional<std::uint64_t> CompressedBytes;
 };
 
-/** The image file formats whose files the tools check themselves. */
+/** The image file formats whose files the tools check themselves; ITK alone checks the Other ones. */
 enum class ImageFileFormat
 {
   Nrrd,
   MetaImage,
   Nifti,
   Png,
-  /** Any other format: ITK's reader and writer alone check it. */
   Other
 };
 
@@ -75,27 +70,24 @@ struct ImageFileParts
   std::vector<std::filesystem::path> Files;
   /** Where the voxels are, in order; empty for a format whose header the tools do not read. */
   std::vector<ImageDataSegment> Data;
-  /** The size of the voxels in bytes, as the header describes them (sizes times bytes per voxel), when it says;
-   * the largest 64-bit number when that product overflows. */
+  /** The voxels' bytes as the header describes them, when it says (the largest 64-bit number on overflow). */
   std::optional<std::uint64_t> DataBytes;
-  /** Whether the header has a fault that must be refused before ITK reads it: one its reader does not survive (a
-   * MetaImage field name of 255 characters or more overflows MetaIO's buffer), misreads or reports without saying
-   * what is wrong (sizes that are not whole numbers of at least 1). */
+  /** The header has a fault that must be refused before ITK reads it: one its reader does not survive (a MetaImage
+   * field name of 255 characters or more overflows MetaIO's buffer), misreads or reports without saying what is
+   * wrong (sizes that are not whole numbers of at least 1). */
   bool UnsafeForItk{ false };
-  /** Whether the header names its data files as a list or a numbered series (even a series of one file). */
+  /** The header names its data files as a list or a numbered series (even of one file). */
   bool DataFileSeries{ false };
-  /** A MetaImage list or numbered series: how many files its reader reads, each for the next slice (or slab) of
-   * SeriesFileBytes bytes; 0 when the header does not say. */
+  /** A MetaImage series: how many files its reader reads, each for a slice (or slab) of SeriesFileBytes bytes; 0 when
+   * the header does not say. */
   std::uint64_t SeriesFiles{ 0 };
   std::uint64_t SeriesFileBytes{ 0 };
-  /** Whether the voxels' bytes are stored most significant first: NRRD's "endian: big", MetaImage's
-   * BinaryDataByteOrderMSB or ElementByteOrderMSB True (whichever of them comes last). */
+  /** NRRD's "endian: big", MetaImage's BinaryDataByteOrderMSB or ElementByteOrderMSB True (the last of them). */
   bool BigEndian{ false };
-  /** MetaImage's BinaryData False (on any of its lines): the voxels are written as text. */
-  bool TextData{ false };
-  /** With TextData: the number of values the header describes (sizes times channels), when it says. */
+  /** MetaImage's BinaryData False (on any of its lines): the voxels are text, TextValues numbers when it says. */
+  bool                         TextData{ false };
   std::optional<std::uint64_t> TextValues;
-  /** NRRD's encoding field in lower case ("raw", "gzip", "ascii", ...); empty for the other formats. */
+  /** NRRD's encoding field in lower case ("raw", "gzip", "ascii", ...). */
   std::string EncodingName;
 };
 
@@ -107,12 +99,10 @@ ImageFileFormatOf(const std::filesystem::path & path);
 bool
 StartsWithPngSignature(const std::filesystem::path & path);
 
-/** The parts of the image file \a path, its format known by ImageFileFormatOf(), or PNG whatever its name when it
- * begins with PNG's signature (ITK's readers take such a file as PNG when the format its name gives declines it): for
- * NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd) and NIfTI (.nii, .nii.gz, .hdr + .img), read from its header (data files
- * are relative to the header's directory); for every other format the file alone, with no Data. Data files are named
- * whether or not they exist. Sets \a problem, saying why (e.g. "its header is cut short"), when the header of one of
- * those formats cannot be read. */
+/** The parts of the image file \a path by ImageFileFormatOf(), or PNG whatever its name when it has PNG's signature
+ * (ITK's readers take it as PNG when the format its name gives declines it): NRRD, MetaImage and NIfTI from their
+ * headers (data files relative to the header's directory, named whether or not they exist), any other the file alone
+ * with no Data. Sets \a problem, saying why (e.g. "its header is cut short"), when such a header cannot be read. */
 ImageFileParts
 FindImageFileParts(const std::filesystem::path & path, std::string & problem);
 } // namespace sic
