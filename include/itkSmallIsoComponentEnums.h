@@ -55,11 +55,10 @@ public:
    * one work unit, the others writing the copy beside it; at one work unit, with the copy
    * after it).
    * Deciding: which components each pass removes, their runs gathered, and the below side's
-   * components grouped through the flipped ones.
+   * components grouped through the flipped ones (the groups numbered).
    * Repair: the repaired value of every removed voxel computed (with Side Above or Below
    * and an output apart from the input, also written, with the mask).
-   * Writes: the repaired values (and the mask) written where the repair did not write them;
-   * with Side Both, the groups of the below pass numbered beside the above pass's writes. */
+   * Writes: the repaired values (and the mask) written where the repair did not write them. */
   enum class Phase : uint8_t
   {
     Encoding = 0,

@@ -26,7 +26,6 @@
 #include "itkSmallIsoComponentPhaseClock.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentTuning.h"
-#include <functional>
 #include <memory>
 #include <type_traits>
 #include <vector>
@@ -329,14 +328,9 @@ private:
   /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
    * computed from the image before the pass, and marks it in the mask when there is one.
    * \a joinFlipped, if given, joins the below components next to the runs in the same
-   * loop. \a besideWrites, if given, is called by one work unit while the others write
-   * the values (at once if there are no runs). */
+   * loop. */
   void
-  RepairRuns(WorkTeam &                    team,
-             const std::vector<LineRun> &  runs,
-             SideEnum                      side,
-             BelowGrouping *               joinFlipped,
-             const std::function<void()> & besideWrites = {});
+  RepairRuns(WorkTeam & team, const std::vector<LineRun> & runs, SideEnum side, BelowGrouping * joinFlipped);
 
   /** Planes per slab for the sweep in slabs, or 0 to label the whole image at once. */
   SizeValueType

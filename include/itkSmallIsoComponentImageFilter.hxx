@@ -495,18 +495,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
   }
   m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
   m_PhaseClock.End(PhaseEnum::Deciding);
-  // The groups are numbered by one work unit while the others write the above pass's
-  // values (the time counted as writes).
-  if (this->AbovePassFlips())
-  {
-    this->RepairRuns(team, working.Runs, SideEnum::Above, &working.Grouping, [&working] {
-      working.Grouping.Finish(working.RemovedAbove, working.Groups);
-    });
-  }
-  else
-  {
-    this->RepairRuns(team, working.Runs, SideEnum::Above, nullptr);
-  }
+  this->RepairRuns(team, working.Runs, SideEnum::Above, this->AbovePassFlips() ? &working.Grouping : nullptr);
   m_NumberOfModifiedVoxels += m_AboveStatistics.RemovedVoxels;
   // The flipped runs have been joined.
   working.Runs.clear();
@@ -529,7 +518,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
     m_ExtraMemory.Hold(working.Labeling.GetMemoryInBytes() + working.GetPassBytes());
     return;
   }
-  // The groups were numbered beside the above pass's writes.
+  working.Grouping.Finish(working.RemovedAbove, working.Groups);
   const BelowGrouping::Groups & groups = working.Groups;
   this->DecideRemovals(
     team,
@@ -715,18 +704,13 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(Work
 
 template <typename TInputImage, typename TOutputImage>
 void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                    team,
-                                                                    const std::vector<LineRun> &  runs,
-                                                                    SideEnum                      side,
-                                                                    BelowGrouping *               joinFlipped,
-                                                                    const std::function<void()> & besideWrites)
+SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &                   team,
+                                                                    const std::vector<LineRun> & runs,
+                                                                    SideEnum                     side,
+                                                                    BelowGrouping *              joinFlipped)
 {
   if (runs.empty())
   {
-    if (besideWrites)
-    {
-      besideWrites();
-    }
     return;
   }
   OutputImageType * output = this->GetOutput();
@@ -747,7 +731,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   const uint8_t   maskValue = side == SideEnum::Above ? 1 : 2;
   const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
   // Where the walks read the input, not the output, each value is written as it is found.
-  const bool writeAsFound = valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr && !besideWrites;
+  const bool writeAsFound = valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr;
   if (writeAsFound)
   {
     repair.ComputeAndWriteValues(
@@ -762,7 +746,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   m_PhaseClock.End(PhaseEnum::Repair);
   if (!writeAsFound)
   {
-    repair.WriteValues(output->GetBufferPointer(), mask, maskValue, besideWrites);
+    repair.WriteValues(output->GetBufferPointer(), mask, maskValue);
     m_PhaseClock.End(PhaseEnum::Writes);
   }
 }

@@ -23,7 +23,6 @@
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentThreshold.h"
 #include "itkSmallIsoComponentTuning.h"
-#include <functional>
 #include <vector>
 
 namespace itk
@@ -85,10 +84,9 @@ public:
                         uint8_t                   maskValue);
 
   /** Writes the values into \a output and, unless \a mask is null, \a maskValue into
-   * \a mask for every voxel of the runs; \a beside (if given) is called once, by one work
-   * unit while the others write. */
+   * \a mask for every voxel of the runs. */
   void
-  WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue, const std::function<void()> & beside = {}) const;
+  WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const;
 
   /** Voxels that got the fallback value. */
   SizeValueType

@@ -249,22 +249,10 @@ RunRepair<TPixel, VDimension>::RepairRun(const Pass &          pass,
 
 template <typename TPixel, unsigned int VDimension>
 void
-RunRepair<TPixel, VDimension>::WriteValues(TPixel *                      output,
-                                           uint8_t *                     mask,
-                                           uint8_t                       maskValue,
-                                           const std::function<void()> & beside) const
+RunRepair<TPixel, VDimension>::WriteValues(TPixel * output, uint8_t * mask, uint8_t maskValue) const
 {
-  // The items are handed out in order: the first work unit calls beside, the others write
-  // the chunks, and it joins them when done.
-  const SizeValueType first = beside ? 1 : 0;
-  m_Team.ForEach(first + m_NumberOfChunks, [&](SizeValueType item) {
-    if (item < first)
-    {
-      beside();
-      return;
-    }
-    const SizeValueType chunk = item - first;
-    auto                value = m_Values[chunk].cbegin();
+  m_Team.ForEach(m_NumberOfChunks, [&](SizeValueType chunk) {
+    auto value = m_Values[chunk].cbegin();
     this->ForEachRunOf(
       chunk,
       [&](const LineRun & ahead) {
