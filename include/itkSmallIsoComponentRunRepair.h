@@ -103,11 +103,27 @@ private:
   /** What one pass's repair reads and, where each value is written as it is found, writes. */
   struct Pass
   {
-    const TPixel * ValuesBeforePass;
-    TPixel         Fallback;
-    /** Whether the removed voxels are above; the walks stop on the other side. */
+    Pass(const TPixel *            valuesBeforePass,
+         const Threshold<TPixel> & isoValue,
+         bool                      removedAreAbove,
+         TPixel *                  output = nullptr,
+         uint8_t *                 mask = nullptr,
+         uint8_t                   maskValue = 0)
+      : ValuesBeforePass(valuesBeforePass)
+      , IsoValue(isoValue)
+      , RemovedAreAbove(removedAreAbove)
+      , Fallback(removedAreAbove ? isoValue.HighestBelow() : isoValue.LowestAbove())
+      , Output(output)
+      , Mask(mask)
+      , MaskValue(maskValue)
+    {}
+
+    const TPixel *            ValuesBeforePass;
     const Threshold<TPixel> & IsoValue;
-    bool                      RemovedAreAbove;
+    /** Whether the removed voxels are above; the walks stop on the other side. */
+    bool RemovedAreAbove;
+    /** The value of a voxel whose walks all find nothing. */
+    TPixel Fallback;
     /** Null where the values are kept for WriteValues(). */
     TPixel *  Output;
     uint8_t * Mask;

@@ -110,8 +110,7 @@ RunRepair<TPixel, VDimension>::ComputeValues(const TPixel *            valuesBef
                                              bool                      removedAreAbove,
                                              BelowGrouping *           joinFlipped)
 {
-  const TPixel fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
-  this->Repair({ valuesBeforePass, fallback, threshold, removedAreAbove, nullptr, nullptr, 0 }, joinFlipped);
+  this->Repair(Pass(valuesBeforePass, threshold, removedAreAbove), joinFlipped);
 }
 
 template <typename TPixel, unsigned int VDimension>
@@ -123,8 +122,7 @@ RunRepair<TPixel, VDimension>::ComputeAndWriteValues(const TPixel *            v
                                                      uint8_t *                 mask,
                                                      uint8_t                   maskValue)
 {
-  const TPixel fallback = removedAreAbove ? threshold.HighestBelow() : threshold.LowestAbove();
-  this->Repair({ valuesBeforePass, fallback, threshold, removedAreAbove, output, mask, maskValue }, nullptr);
+  this->Repair(Pass(valuesBeforePass, threshold, removedAreAbove, output, mask, maskValue), nullptr);
 }
 
 template <typename TPixel, unsigned int VDimension>
