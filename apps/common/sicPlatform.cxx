@@ -31,11 +31,11 @@
 #include <map>
 #include <mutex>
 #include <new>
-#include <random>
 #include <stdexcept>
 
 #ifdef _WIN32
 #  include <io.h>
+#  include <random>
 #else
 #  include <cerrno>
 #  include <fcntl.h>
@@ -168,37 +168,6 @@ FindProgram(const std::string & name)
   return {};
 }
 
-fs::path
-CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
-{
-  const char         letters[] = "abcdefghijklmnopqrstuvwxyz0123456789";
-  std::random_device seed;
-  std::mt19937       random(seed());
-  for (int attempt = 0; attempt < 100; ++attempt)
-  {
-    std::string name = prefix;
-    for (int i = 0; i < 6; ++i)
-    {
-      name += letters[random() % (sizeof(letters) - 1)];
-    }
-    const fs::path directory = parent / name;
-    // create_directory is false, without an error, when the directory exists already.
-    if (fs::create_directory(directory, error))
-    {
-      // Only its owner may look inside, as in a directory mkdtemp() makes.
-      fs::permissions(directory, fs::perms::owner_all, error);
-      error.clear();
-      return directory;
-    }
-    if (error)
-    {
-      return {};
-    }
-  }
-  error = std::make_error_code(std::errc::file_exists);
-  return {};
-}
-
 namespace
 {
 // The C runtime's descriptor calls, spelled with an underscore on Windows.
@@ -310,6 +279,34 @@ HandleTerminationSignals()
   {
     std::signal(received, OnTerminationSignal);
   }
+}
+
+fs::path
+CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
+{
+  const char         letters[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+  std::random_device seed;
+  std::mt19937       random(seed());
+  for (int attempt = 0; attempt < 100; ++attempt)
+  {
+    std::string name = prefix;
+    for (int i = 0; i < 6; ++i)
+    {
+      name += letters[random() % (sizeof(letters) - 1)];
+    }
+    const fs::path directory = parent / name;
+    // create_directory is false, without an error, when the directory exists already.
+    if (fs::create_directory(directory, error))
+    {
+      return directory;
+    }
+    if (error)
+    {
+      return {};
+    }
+  }
+  error = std::make_error_code(std::errc::file_exists);
+  return {};
 }
 
 bool
@@ -473,6 +470,19 @@ HandleTerminationSignals()
     }
     pthread_sigmask(SIG_UNBLOCK, &directed, nullptr);
   });
+}
+
+fs::path
+CreateUniqueDirectory(const fs::path & parent, const std::string & prefix, std::error_code & error)
+{
+  std::string pattern = (parent / (prefix + "XXXXXX")).string();
+  if (::mkdtemp(pattern.data()) == nullptr)
+  {
+    error = std::error_code(errno, std::generic_category());
+    return {};
+  }
+  error.clear();
+  return pattern;
 }
 
 bool
