@@ -1,0 +1,271 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentLabelComponents_h
+#define itkSmallIsoComponentLabelComponents_h
+
+#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentLineNeighbors.h"
+#include "itkSmallIsoComponentTuning.h"
+#include "itkSmallIsoComponentUnionFind.h"
+#include <algorithm>
+#include <vector>
+
+namespace itk
+{
+namespace SmallIsoComponentDetail
+{
+/** Calls join(a, b) for every pair of runs a of one line and b of a neighbouring line that
+ * touch and for which same(a, b). The runs a..aLast and b..bLast partition [0, length) of
+ * their lines, run r spanning start[r] up to the next run's start. Runs touch where they
+ * overlap and, with full connectivity, also diagonally where both end at the same x: the run
+ * after each one then meets the other. One merge of the two lines visits every such pair. */
+template <typename TIndex, typename TSame, typename TJoin>
+inline void
+JoinTouchingRuns(const SizeValueType * start,
+                 TIndex                a,
+                 TIndex                aLast,
+                 TIndex                b,
+                 TIndex                bLast,
+                 SizeValueType         length,
+                 bool                  fullyConnected,
+                 TSame &&              same,
+                 TJoin &&              join)
+{
+  const auto    endOf = [start, length](TIndex run, TIndex last) { return run < last ? start[run + 1] : length; };
+  SizeValueType endA = endOf(a, aLast);
+  SizeValueType endB = endOf(b, bLast);
+  while (true)
+  {
+    if (same(a, b))
+    {
+      join(a, b);
+    }
+    if (endA < endB)
+    {
+      endA = endOf(++a, aLast);
+    }
+    else if (endB < endA)
+    {
+      endB = endOf(++b, bLast);
+    }
+    else
+    {
+      if (a == aLast || b == bLast)
+      {
+        return;
+      }
+      if (fullyConnected && same(a, b + 1))
+      {
+        join(a, b + 1);
+      }
+      if (fullyConnected && same(a + 1, b))
+      {
+        join(a + 1, b);
+      }
+      endA = endOf(++a, aLast);
+      endB = endOf(++b, bLast);
+    }
+  }
+}
+
+/** \class LabelComponents
+ * The components of a label image: each line's runs of one label, joined with the runs of
+ * the same label they touch on neighbouring lines (LineNeighbors says which lines those are).
+ * After Find() every run points at its component's root, the component's smallest run, which
+ * holds the component's size.
+ * \ingroup SmallIsoComponent */
+template <typename TLabel>
+class LabelComponents
+{
+public:
+  using RunIndex = SizeValueType;
+
+  /** Finds the components of \a labels, an image of extent \a size with axis 0 fastest, with
+   * the work units of \a threader. */
+  void
+  Find(const TLabel *                     labels,
+       const std::vector<SizeValueType> & size,
+       bool                               fullyConnected,
+       MultiThreaderBase *                threader)
+  {
+    m_Length = size[0];
+    SizeValueType lines = 1;
+    for (std::size_t a = 1; a < size.size(); ++a)
+    {
+      lines *= size[a];
+    }
+    this->Encode(labels, lines, threader);
+    this->Link(LineNeighbors(size, fullyConnected), fullyConnected);
+    m_Size.assign(m_Start.size(), 0);
+    for (SizeValueType line = 0; line < lines; ++line)
+    {
+      for (RunIndex run = m_LineBegin[line]; run < m_LineBegin[line + 1]; ++run)
+      {
+        m_Parent[run] = FindRoot(m_Parent.data(), run);
+        m_Size[m_Parent[run]] += this->End(run, line) - m_Start[run];
+      }
+    }
+  }
+
+  SizeValueType
+  GetNumberOfLines() const
+  {
+    return m_LineBegin.size() - 1;
+  }
+  SizeValueType
+  GetNumberOfRuns() const
+  {
+    return m_Start.size();
+  }
+  RunIndex
+  LineBegin(SizeValueType line) const
+  {
+    return m_LineBegin[line];
+  }
+  RunIndex
+  LineEnd(SizeValueType line) const
+  {
+    return m_LineBegin[line + 1];
+  }
+  SizeValueType
+  Start(RunIndex run) const
+  {
+    return m_Start[run];
+  }
+  /** Where \a run, a run of \a line, ends (one past its last voxel). */
+  SizeValueType
+  End(RunIndex run, SizeValueType line) const
+  {
+    return run + 1 < m_LineBegin[line + 1] ? m_Start[run + 1] : m_Length;
+  }
+  TLabel
+  Label(RunIndex run) const
+  {
+    return m_Label[run];
+  }
+  /** The root of \a run's component. */
+  RunIndex
+  Component(RunIndex run) const
+  {
+    return m_Parent[run];
+  }
+  /** The number of voxels of the component whose root is \a root. */
+  SizeValueType
+  Size(RunIndex root) const
+  {
+    return m_Size[root];
+  }
+  /** The run of \a line that holds voxel \a x. */
+  RunIndex
+  RunAt(SizeValueType line, SizeValueType x) const
+  {
+    const auto first = m_Start.begin() + static_cast<std::ptrdiff_t>(m_LineBegin[line]);
+    const auto last = m_Start.begin() + static_cast<std::ptrdiff_t>(m_LineBegin[line + 1]);
+    return static_cast<RunIndex>(std::upper_bound(first, last, x) - m_Start.begin()) - 1;
+  }
+
+private:
+  /** Each line's runs: counted, then written where the counts put them, both in slabs of
+   * lines shared among the work units. */
+  void
+  Encode(const TLabel * labels, SizeValueType lines, MultiThreaderBase * threader)
+  {
+    const SizeValueType slabs =
+      std::min<SizeValueType>(lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * Tuning::SlabsPerWorkUnit);
+    const auto forEachLine = [threader, slabs, lines](const auto & lineFunction) {
+      threader->ParallelizeArray(
+        0,
+        slabs,
+        [&lineFunction, lines, slabs](SizeValueType slab) {
+          for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
+          {
+            lineFunction(line);
+          }
+        },
+        nullptr);
+    };
+    m_LineBegin.assign(lines + 1, 0);
+    forEachLine([this, labels](SizeValueType line) {
+      const TLabel * const row = labels + line * m_Length;
+      RunIndex             runs = 1;
+      for (SizeValueType x = 1; x < m_Length; ++x)
+      {
+        runs += !(row[x] == row[x - 1]);
+      }
+      m_LineBegin[line + 1] = runs;
+    });
+    for (SizeValueType line = 0; line < lines; ++line)
+    {
+      m_LineBegin[line + 1] += m_LineBegin[line];
+    }
+    m_Start.resize(m_LineBegin[lines]);
+    m_Label.resize(m_LineBegin[lines]);
+    forEachLine([this, labels](SizeValueType line) {
+      const TLabel * const row = labels + line * m_Length;
+      RunIndex             run = m_LineBegin[line];
+      m_Start[run] = 0;
+      m_Label[run] = row[0];
+      for (SizeValueType x = 1; x < m_Length; ++x)
+      {
+        if (!(row[x] == row[x - 1]))
+        {
+          m_Start[++run] = x;
+          m_Label[run] = row[x];
+        }
+      }
+    });
+  }
+
+  void
+  Link(const LineNeighbors & neighbors, bool fullyConnected)
+  {
+    m_Parent.resize(m_Start.size());
+    for (RunIndex run = 0; run < m_Parent.size(); ++run)
+    {
+      m_Parent[run] = run;
+    }
+    const auto              same = [this](RunIndex a, RunIndex b) { return m_Label[a] == m_Label[b]; };
+    const auto              join = [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); };
+    LineNeighbors::Position position = neighbors.At(0);
+    for (SizeValueType line = 0; line + 1 < m_LineBegin.size(); ++line, neighbors.Next(position))
+    {
+      neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+        JoinTouchingRuns(m_Start.data(),
+                         m_LineBegin[line],
+                         m_LineBegin[line + 1] - 1,
+                         m_LineBegin[earlier],
+                         m_LineBegin[earlier + 1] - 1,
+                         m_Length,
+                         fullyConnected,
+                         same,
+                         join);
+      });
+    }
+  }
+
+  SizeValueType              m_Length{ 0 };
+  std::vector<RunIndex>      m_LineBegin;
+  std::vector<SizeValueType> m_Start;
+  std::vector<TLabel>        m_Label;
+  std::vector<RunIndex>      m_Parent;
+  std::vector<SizeValueType> m_Size;
+};
+} // namespace SmallIsoComponentDetail
+} // end namespace itk
+
+#endif

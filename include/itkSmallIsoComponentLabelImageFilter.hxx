@@ -1,0 +1,491 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSmallIsoComponentLabelImageFilter_hxx
+#define itkSmallIsoComponentLabelImageFilter_hxx
+
+#include "itkSmallIsoComponentLabelImageFilter.h"
+#include "itkMath.h"
+#include "itkSmallIsoComponentBlockSummary.h"
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <type_traits>
+
+namespace itk
+{
+template <typename TImage>
+SmallIsoComponentLabelImageFilter<TImage>::SmallIsoComponentLabelImageFilter()
+{
+  this->SetNumberOfRequiredOutputs(2);
+  this->SetNthOutput(1, this->MakeOutput(1));
+  this->InPlaceOff();
+}
+
+template <typename TImage>
+DataObject::Pointer
+SmallIsoComponentLabelImageFilter<TImage>::MakeOutput(DataObjectPointerArraySizeType idx)
+{
+  if (idx == 1)
+  {
+    return MaskImageType::New().GetPointer();
+  }
+  return Superclass::MakeOutput(idx);
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::GetRemovedMask() -> MaskImageType *
+{
+  return itkDynamicCastInDebugMode<MaskImageType *>(this->ProcessObject::GetOutput(1));
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::SetMaximumComponentSize(SizeValueType size)
+{
+  if (m_MaximumComponentSize != size || m_UseMaximumComponentVolume)
+  {
+    m_MaximumComponentSize = size;
+    m_UseMaximumComponentVolume = false;
+    this->Modified();
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::SetMaximumComponentVolume(double volume)
+{
+  if (Math::NotExactlyEquals(m_MaximumComponentVolume, volume) || !m_UseMaximumComponentVolume)
+  {
+    m_MaximumComponentVolume = volume;
+    m_UseMaximumComponentVolume = true;
+    this->Modified();
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::SetMaximumComponentSizes(const LabelSizeMapType & sizes)
+{
+  if (m_MaximumComponentSizes != sizes)
+  {
+    m_MaximumComponentSizes = sizes;
+    this->Modified();
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::SetSelectedLabels(const std::vector<LabelType> & labels)
+{
+  if (m_SelectedLabels != labels)
+  {
+    m_SelectedLabels = labels;
+    this->Modified();
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::VerifyPreconditions()
+#if !defined(ITKV4_COMPATIBILITY)
+  const
+#endif
+{
+  Superclass::VerifyPreconditions();
+  if (m_UseMaximumComponentVolume && !(m_MaximumComponentVolume >= 0.0))
+  {
+    itkExceptionMacro("MaximumComponentVolume is "
+                      << m_MaximumComponentVolume << "; it must be a volume >= 0 in the image's physical units cubed.");
+  }
+  if (static_cast<unsigned int>(m_Selection) > static_cast<unsigned int>(SelectionEnum::Listed))
+  {
+    itkExceptionMacro("Selection is " << static_cast<int>(m_Selection)
+                                      << "; it must be All, Islands, Holes or Listed.");
+  }
+  if (m_Selection == SelectionEnum::Listed && m_SelectedLabels.empty())
+  {
+    itkExceptionMacro("Selection is Listed but no label is listed; give the labels with SetSelectedLabels().");
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::GenerateInputRequestedRegion()
+{
+  Superclass::GenerateInputRequestedRegion();
+  if (auto * input = const_cast<ImageType *>(this->GetInput()))
+  {
+    input->SetRequestedRegionToLargestPossibleRegion();
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::EnlargeOutputRequestedRegion(DataObject *)
+{
+  for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
+  {
+    if (DataObject * output = this->ProcessObject::GetOutput(i))
+    {
+      output->SetRequestedRegionToLargestPossibleRegion();
+    }
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::AllocateOutputs()
+{
+  MaskImageType * mask = this->GetRemovedMask();
+  if (!m_GenerateRemovedMask)
+  {
+    // The mask keeps its geometry and is allocated with no voxels.
+    typename MaskImageType::RegionType none = mask->GetRequestedRegion();
+    typename MaskImageType::SizeType   noSize;
+    noSize.Fill(0);
+    none.SetSize(noSize);
+    mask->Initialize();
+    mask->SetRequestedRegion(none);
+  }
+  Superclass::AllocateOutputs();
+  if (m_GenerateRemovedMask)
+  {
+    mask->FillBuffer(0);
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::VerifyWholeNumbers(const ImageType * input) const
+{
+  if (!std::is_floating_point<LabelType>::value)
+  {
+    return;
+  }
+  const LabelType * const buffer = input->GetBufferPointer();
+  const SizeValueType     count = input->GetBufferedRegion().GetNumberOfPixels();
+  const LabelType * const bad = std::find_if(buffer, buffer + count, [](LabelType value) {
+    return !std::isfinite(static_cast<double>(value)) || std::trunc(value) != value;
+  });
+  if (bad != buffer + count)
+  {
+    const auto index = input->ComputeIndex(static_cast<OffsetValueType>(bad - buffer));
+    itkExceptionMacro("The label image's sample at " << index << " is " << static_cast<double>(*bad)
+                                                     << "; a label image holds whole numbers only.");
+  }
+}
+
+template <typename TImage>
+bool
+SmallIsoComponentLabelImageFilter<TImage>::IsSelected(LabelType label) const
+{
+  switch (m_Selection)
+  {
+    case SelectionEnum::All:
+      return true;
+    case SelectionEnum::Islands:
+      return !(label == m_BackgroundValue);
+    case SelectionEnum::Holes:
+      return label == m_BackgroundValue;
+    case SelectionEnum::Listed:
+      return std::find(m_SelectedLabels.begin(), m_SelectedLabels.end(), label) != m_SelectedLabels.end();
+  }
+  return false;
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
+{
+  std::map<LabelType, std::vector<SizeValueType>> sizes;
+  m_LabelStatistics.clear();
+  for (RunIndex run = 0; run < m_Components.GetNumberOfRuns(); ++run)
+  {
+    if (m_Components.Component(run) == run)
+    {
+      const LabelType     label = m_Components.Label(run);
+      const SizeValueType size = m_Components.Size(run);
+      LabelStatistics &   statistics = m_LabelStatistics[label];
+      ++statistics.Components;
+      ++statistics.Histogram[size];
+      sizes[label].push_back(size);
+    }
+  }
+  // The size a selected label's components must reach to stay under KeepLargestComponents.
+  std::map<LabelType, SizeValueType> smallestKept;
+  for (auto & entry : sizes)
+  {
+    std::vector<SizeValueType> & labelSizes = entry.second;
+    if (m_KeepLargestComponents > 0 && labelSizes.size() >= m_KeepLargestComponents)
+    {
+      const auto nth = labelSizes.begin() + static_cast<std::ptrdiff_t>(m_KeepLargestComponents - 1);
+      std::nth_element(labelSizes.begin(), nth, labelSizes.end(), std::greater<SizeValueType>());
+      smallestKept[entry.first] = *nth;
+    }
+  }
+  m_Removed.assign(m_Components.GetNumberOfRuns(), 0);
+  for (RunIndex run = 0; run < m_Components.GetNumberOfRuns(); ++run)
+  {
+    const LabelType label = m_Components.Label(run);
+    if (m_Components.Component(run) != run || !this->IsSelected(label))
+    {
+      continue;
+    }
+    const auto          ownK = m_MaximumComponentSizes.find(label);
+    const SizeValueType k = ownK != m_MaximumComponentSizes.end() ? ownK->second : m_EffectiveMaximumComponentSize;
+    const auto          kept = smallestKept.find(label);
+    const SizeValueType size = m_Components.Size(run);
+    if (size <= k || (kept != smallestKept.end() && size < kept->second))
+    {
+      m_Removed[run] = 1;
+      ++m_LabelStatistics[label].RemovedComponents;
+      m_LabelStatistics[label].RemovedVoxels += size;
+    }
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::CollectVotes(const LabelType *                  input,
+                                                        const SizeType &                   size,
+                                                        SizeValueType                      line,
+                                                        const std::vector<SizeValueType> & coordinates,
+                                                        RunIndex                           run,
+                                                        SizeValueType                      x,
+                                                        std::vector<Vote> &                votes) const
+{
+  // Along a line the walks leave the run at its ends; along the other axes they pass voxels of
+  // the component's label, which are all in the component, up to the first other label.
+  const auto vote = [this, &votes](RunIndex at, SizeValueType steps) {
+    votes.push_back({ m_Components.Label(at), steps, !m_Removed[m_Components.Component(at)] });
+  };
+  votes.clear();
+  const SizeValueType start = m_Components.Start(run);
+  const SizeValueType end = m_Components.End(run, line);
+  if (start > 0)
+  {
+    vote(run - 1, x - start + 1);
+  }
+  if (end < size[0])
+  {
+    vote(run + 1, end - x);
+  }
+  const LabelType label = m_Components.Label(run);
+  SizeValueType   lineStride = 1;
+  for (unsigned int a = 1; a < ImageDimension; ++a)
+  {
+    for (const int direction : { -1, 1 })
+    {
+      SizeValueType other = line;
+      for (SizeValueType steps = 1; direction < 0 ? coordinates[a] >= steps : coordinates[a] + steps < size[a]; ++steps)
+      {
+        other = direction < 0 ? other - lineStride : other + lineStride;
+        if (!(input[other * size[0] + x] == label))
+        {
+          vote(m_Components.RunAt(other, x), steps);
+          break;
+        }
+      }
+    }
+    lineStride *= size[a];
+  }
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::Elect(const std::vector<Vote> & votes) -> LabelType
+{
+  const bool anyKept = std::any_of(votes.begin(), votes.end(), [](const Vote & vote) { return vote.Kept; });
+  bool       found = false;
+  LabelType  best{};
+  std::pair<SizeValueType, SizeValueType> bestRank{ 0, 0 };
+  for (const Vote & candidate : votes)
+  {
+    if (anyKept && !candidate.Kept)
+    {
+      continue;
+    }
+    // Rank: the most votes, then the nearest voter, then the smallest label.
+    SizeValueType count = 0;
+    SizeValueType nearest = NumericTraits<SizeValueType>::max();
+    for (const Vote & vote : votes)
+    {
+      if ((vote.Kept || !anyKept) && vote.Label == candidate.Label)
+      {
+        ++count;
+        nearest = std::min(nearest, vote.Steps);
+      }
+    }
+    const std::pair<SizeValueType, SizeValueType> rank{ count, NumericTraits<SizeValueType>::max() - nearest };
+    if (!found || rank > bestRank || (rank == bestRank && candidate.Label < best))
+    {
+      found = true;
+      best = candidate.Label;
+      bestRank = rank;
+    }
+  }
+  return best;
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType * input, const SizeType & size)
+  -> std::vector<Repair>
+{
+  std::vector<Repair>        repairs;
+  std::vector<Vote>          votes;
+  std::vector<SizeValueType> coordinates(ImageDimension, 0);
+  const SizeValueType        lines = m_Components.GetNumberOfLines();
+  for (SizeValueType line = 0; line < lines; ++line)
+  {
+    for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
+    {
+      if (!m_Removed[m_Components.Component(run)])
+      {
+        continue;
+      }
+      SizeValueType rest = line;
+      for (unsigned int a = 1; a < ImageDimension; ++a)
+      {
+        coordinates[a] = rest % size[a];
+        rest /= size[a];
+      }
+      for (SizeValueType x = m_Components.Start(run); x < m_Components.End(run, line); ++x)
+      {
+        this->CollectVotes(input, size, line, coordinates, run, x, votes);
+        if (votes.empty())
+        {
+          ++m_NumberOfUnrepairableVoxels;
+          continue;
+        }
+        const LabelType label = Elect(votes);
+        ++m_LabelStatistics[label].GainedVoxels;
+        repairs.push_back({ line * size[0] + x, label });
+      }
+    }
+  }
+  return repairs;
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
+{
+  const ImageType * input = this->GetInput();
+  this->VerifyWholeNumbers(input);
+  this->AllocateOutputs();
+  const SizeType                   size = input->GetBufferedRegion().GetSize();
+  const std::vector<SizeValueType> extent(size.begin(), size.end());
+  double                           voxelVolume = 1.0;
+  for (unsigned int a = 0; a < ImageDimension; ++a)
+  {
+    voxelVolume *= input->GetSpacing()[a];
+  }
+  m_EffectiveMaximumComponentSize =
+    m_UseMaximumComponentVolume
+      ? SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume)
+      : m_MaximumComponentSize;
+  m_NumberOfModifiedVoxels = 0;
+  m_NumberOfUnrepairableVoxels = 0;
+
+  const LabelType * const inputBuffer = input->GetBufferPointer();
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  m_Components.Find(inputBuffer, extent, m_FullyConnected, this->GetMultiThreader());
+  this->UpdateProgress(0.5f);
+  this->StopIfAborted();
+  this->DecideRemovals();
+  const std::vector<Repair> repairs = this->RepairRemoved(inputBuffer, size);
+  this->UpdateProgress(0.8f);
+  this->StopIfAborted();
+
+  ImageType * output = this->GetOutput();
+  LabelType * outputBuffer = output->GetBufferPointer();
+  if (outputBuffer != inputBuffer)
+  {
+    // In parallel: the first touch of each page of a fresh output is what the copy costs.
+    const SizeValueType voxels = input->GetBufferedRegion().GetNumberOfPixels();
+    const SizeValueType parts =
+      SizeValueType{ this->GetNumberOfWorkUnits() } * SmallIsoComponentDetail::Tuning::SlabsPerWorkUnit;
+    this->GetMultiThreader()->ParallelizeArray(
+      0,
+      parts,
+      [=](SizeValueType part) {
+        std::copy(inputBuffer + voxels * part / parts,
+                  inputBuffer + voxels * (part + 1) / parts,
+                  outputBuffer + voxels * part / parts);
+      },
+      nullptr);
+  }
+  for (const Repair & repair : repairs)
+  {
+    outputBuffer[repair.Offset] = repair.Label;
+  }
+  m_NumberOfModifiedVoxels = repairs.size();
+  if (m_GenerateRemovedMask)
+  {
+    uint8_t * const mask = this->GetRemovedMask()->GetBufferPointer();
+    for (SizeValueType line = 0; line < m_Components.GetNumberOfLines(); ++line)
+    {
+      for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
+      {
+        if (m_Removed[m_Components.Component(run)])
+        {
+          std::fill(
+            mask + line * size[0] + m_Components.Start(run), mask + line * size[0] + m_Components.End(run, line), 1);
+        }
+      }
+    }
+  }
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::StopIfAborted() const
+{
+  if (this->GetAbortGenerateData())
+  {
+    ProcessAborted abort(__FILE__, __LINE__);
+    abort.SetDescription("SmallIsoComponentLabelImageFilter: aborted by the user");
+    throw abort;
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "MaximumComponentSize: " << m_MaximumComponentSize << std::endl;
+  os << indent << "MaximumComponentVolume: " << m_MaximumComponentVolume << std::endl;
+  os << indent << "UseMaximumComponentVolume: " << (m_UseMaximumComponentVolume ? "On" : "Off") << std::endl;
+  os << indent << "MaximumComponentSizes: " << m_MaximumComponentSizes.size() << " labels" << std::endl;
+  os << indent << "Selection: " << m_Selection << std::endl;
+  os << indent << "SelectedLabels: " << m_SelectedLabels.size() << " labels" << std::endl;
+  os << indent << "BackgroundValue: " << static_cast<typename NumericTraits<LabelType>::PrintType>(m_BackgroundValue)
+     << std::endl;
+  os << indent << "KeepLargestComponents: " << m_KeepLargestComponents << std::endl;
+  os << indent << "FullyConnected: " << (m_FullyConnected ? "On" : "Off") << std::endl;
+  os << indent << "GenerateRemovedMask: " << (m_GenerateRemovedMask ? "On" : "Off") << std::endl;
+  os << indent << "NumberOfModifiedVoxels: " << m_NumberOfModifiedVoxels << std::endl;
+  os << indent << "NumberOfUnrepairableVoxels: " << m_NumberOfUnrepairableVoxels << std::endl;
+}
+} // end namespace itk
+
+#endif
