@@ -30,8 +30,7 @@
 #include "itkRelabelComponentImageFilter.h"
 #include "itkVersion.h"
 #include "VoxelUnionFind.h"
-
-#include <sys/resource.h>
+#include "sicBenchmarkTiming.h"
 
 #include <algorithm>
 #include <chrono>
@@ -52,6 +51,10 @@
 
 namespace
 {
+using sic::Median;
+using sic::Sample;
+using sic::TimeAfterWarmUp;
+using sic::TimeMs;
 constexpr unsigned int Dimension = 3;
 constexpr std::size_t  MaximumSize = 20;
 
@@ -77,22 +80,6 @@ const std::vector<std::pair<const char *, itk::SmallIsoComponentEnums::Phase>> P
   { "write", itk::SmallIsoComponentEnums::Phase::Writes }
 };
 
-/** One timed run: wall time and the page faults the process took meanwhile. */
-struct Sample
-{
-  double Ms{ 0 };
-  double Faults{ 0 };
-};
-
-/** Minor and major page faults of the process so far. */
-double
-PageFaults()
-{
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_minflt + usage.ru_majflt);
-}
-
 /** Milliseconds of each phase of the last update of \a filter. */
 template <typename TFilter>
 std::vector<double>
@@ -104,42 +91,6 @@ PhaseMs(const TFilter & filter)
     ms.push_back(1000.0 * filter.GetPhaseSeconds(phase.second));
   }
   return ms;
-}
-
-double
-Median(std::vector<double> values)
-{
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-template <typename F>
-Sample
-TimeMs(F && work)
-{
-  const double faults = PageFaults();
-  const auto   start = std::chrono::steady_clock::now();
-  work();
-  Sample sample;
-  sample.Ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  sample.Faults = PageFaults() - faults;
-  return sample;
-}
-
-/** Runs \a work once untimed, then times a second run; \a prepare (untimed) comes before
- * each. Every peer is thus timed right after a run of itself at the same thread count, never
- * after a different peer: on a virtual machine a core left idle by a long single-threaded
- * peer often comes back late (the next peer's second thread then starts a millisecond or
- * more after the first), which would weigh on whichever peer happened to come next. */
-template <typename P, typename F>
-Sample
-TimeAfterWarmUp(P && prepare, F && work)
-{
-  prepare();
-  work();
-  prepare();
-  return TimeMs(work);
 }
 
 /** A deterministic 64-bit generator (splitmix64), so volumes are the same everywhere. */
