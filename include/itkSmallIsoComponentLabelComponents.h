@@ -20,6 +20,7 @@
 
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentLineNeighbors.h"
+#include "itkSmallIsoComponentTouchingRuns.h"
 #include "itkSmallIsoComponentTuning.h"
 #include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
@@ -29,60 +30,6 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-/** Calls join(a, b) for every pair of runs a of one line and b of a neighbouring line that
- * touch and for which same(a, b). The runs a..aLast and b..bLast partition [0, length) of
- * their lines, run r spanning start[r] up to the next run's start. Runs touch where they
- * overlap and, with full connectivity, also diagonally where both end at the same x: the run
- * after each one then meets the other. One merge of the two lines visits every such pair. */
-template <typename TIndex, typename TSame, typename TJoin>
-inline void
-JoinTouchingRuns(const SizeValueType * start,
-                 TIndex                a,
-                 TIndex                aLast,
-                 TIndex                b,
-                 TIndex                bLast,
-                 SizeValueType         length,
-                 bool                  fullyConnected,
-                 TSame &&              same,
-                 TJoin &&              join)
-{
-  const auto    endOf = [start, length](TIndex run, TIndex last) { return run < last ? start[run + 1] : length; };
-  SizeValueType endA = endOf(a, aLast);
-  SizeValueType endB = endOf(b, bLast);
-  while (true)
-  {
-    if (same(a, b))
-    {
-      join(a, b);
-    }
-    if (endA < endB)
-    {
-      endA = endOf(++a, aLast);
-    }
-    else if (endB < endA)
-    {
-      endB = endOf(++b, bLast);
-    }
-    else
-    {
-      if (a == aLast || b == bLast)
-      {
-        return;
-      }
-      if (fullyConnected && same(a, b + 1))
-      {
-        join(a, b + 1);
-      }
-      if (fullyConnected && same(a + 1, b))
-      {
-        join(a + 1, b);
-      }
-      endA = endOf(++a, aLast);
-      endB = endOf(++b, bLast);
-    }
-  }
-}
-
 /** \class LabelComponents
  * The components of a label image: each line's runs of one label, joined with the runs of
  * the same label they touch on neighbouring lines (LineNeighbors says which lines those are).

@@ -78,6 +78,10 @@ operator<<(std::ostream & out, const SmallIsoComponentLabelEnums::Selection valu
  * marks the removed voxels with 1 when GenerateRemovedMaskOn(). GetLabelStatistics() gives each
  * label's components, removals, gains and component sizes.
  *
+ * Any region asked of the output is exactly that part of the whole image's output: the filter
+ * reads it with a halo of twice the largest K, so it streams (with KeepLargestComponents > 0 it
+ * makes the whole image at once). The statistics describe the part read for the last piece.
+ *
  * docs/labels.md describes the rule and its choices; docs/algorithm.md the engine.
  *
  * \sa SmallIsoComponentImageFilter
@@ -97,6 +101,9 @@ public:
   using ImageType = TImage;
   using LabelType = typename ImageType::PixelType;
   using SizeType = typename ImageType::SizeType;
+  using RegionType = typename ImageType::RegionType;
+  using IndexType = typename ImageType::IndexType;
+  using SpacingType = typename ImageType::SpacingType;
   static constexpr unsigned int ImageDimension = TImage::ImageDimension;
   using MaskImageType = Image<uint8_t, ImageDimension>;
   using SelectionEnum = SmallIsoComponentLabelEnums::Selection;
@@ -221,8 +228,36 @@ private:
     LabelType     Label;
   };
 
+  /** Throws unless every sample of \a labels, the voxels of \a region, is a whole number. */
   void
-  VerifyWholeNumbers(const ImageType * input) const;
+  VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const;
+  /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
+  SizeValueType
+  ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
+  /** The index of voxel \a offset of a buffer of \a region. */
+  static IndexType
+  IndexOf(const RegionType & region, SizeValueType offset);
+  /** Calls function(offset in inner, offset in outer) for the first voxel of every line of
+   * \a inner, a region inside \a outer, with the work units of \a threader when given. */
+  template <typename TFunction>
+  static void
+  ForEachLine(const RegionType &  inner,
+              const RegionType &  outer,
+              TFunction &&        function,
+              MultiThreaderBase * threader = nullptr);
+  /** Copies \a region from \a source, a buffer of \a sourceRegion, into \a target, a buffer of
+   * \a targetRegion. */
+  static void
+  CopyLines(const LabelType *   source,
+            const RegionType &  sourceRegion,
+            LabelType *         target,
+            const RegionType &  targetRegion,
+            const RegionType &  region,
+            MultiThreaderBase * threader = nullptr);
+  /** The output and the mask: \a labels, the voxels of \a region, with \a repairs, in the
+   * output's region. */
+  void
+  WriteOutputs(const LabelType * labels, const RegionType & region, const std::vector<Repair> & repairs);
   bool
   IsSelected(LabelType label) const;
   /** Which components are removed (m_Removed, at their roots), with the statistics. */
@@ -258,6 +293,7 @@ private:
   bool                   m_GenerateRemovedMask{ false };
 
   Components             m_Components;
+  std::vector<LabelType> m_Part;
   std::vector<uint8_t>   m_Removed;
   LabelStatisticsMapType m_LabelStatistics;
   SizeValueType          m_NumberOfModifiedVoxels{ 0 };

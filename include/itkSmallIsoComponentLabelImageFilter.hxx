@@ -129,23 +129,60 @@ void
 SmallIsoComponentLabelImageFilter<TImage>::GenerateInputRequestedRegion()
 {
   Superclass::GenerateInputRequestedRegion();
-  if (auto * input = const_cast<ImageType *>(this->GetInput()))
+  auto * input = const_cast<ImageType *>(this->GetInput());
+  if (input == nullptr)
   {
-    input->SetRequestedRegionToLargestPossibleRegion();
+    return;
   }
+  // A removed component that reaches the output has at most K voxels, so it lies within K - 1 of
+  // the output, its voters within K, and a voter's component, when removed, within 2K - 1: a halo
+  // of 2K holds them whole, and a component that the halo's border cuts has more than K voxels
+  // inside it wherever it decides an output voxel. Keep-largest needs every component whole.
+  SizeValueType k = this->ComputeEffectiveMaximumComponentSize(input->GetSpacing());
+  for (const auto & labelK : m_MaximumComponentSizes)
+  {
+    k = std::max(k, labelK.second);
+  }
+  const RegionType whole = input->GetLargestPossibleRegion();
+  RegionType       region = this->GetOutput()->GetRequestedRegion();
+  const auto halo = static_cast<OffsetValueType>(std::min<SizeValueType>(k, NumericTraits<OffsetValueType>::max() / 4));
+  if (m_KeepLargestComponents > 0 || !region.Crop(whole))
+  {
+    region = whole;
+  }
+  region.PadByRadius(2 * halo);
+  region.Crop(whole);
+  input->SetRequestedRegion(region);
 }
 
 template <typename TImage>
 void
-SmallIsoComponentLabelImageFilter<TImage>::EnlargeOutputRequestedRegion(DataObject *)
+SmallIsoComponentLabelImageFilter<TImage>::EnlargeOutputRequestedRegion(DataObject * output)
 {
-  for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
+  Superclass::EnlargeOutputRequestedRegion(output);
+  if (m_KeepLargestComponents > 0)
   {
-    if (DataObject * output = this->ProcessObject::GetOutput(i))
+    for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
     {
-      output->SetRequestedRegionToLargestPossibleRegion();
+      if (DataObject * each = this->ProcessObject::GetOutput(i))
+      {
+        each->SetRequestedRegionToLargestPossibleRegion();
+      }
     }
   }
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::IndexOf(const RegionType & region, SizeValueType offset) -> IndexType
+{
+  IndexType index = region.GetIndex();
+  for (unsigned int a = 0; a < ImageDimension; ++a)
+  {
+    index[a] += static_cast<IndexValueType>(offset % region.GetSize(a));
+    offset /= region.GetSize(a);
+  }
+  return index;
 }
 
 template <typename TImage>
@@ -172,21 +209,20 @@ SmallIsoComponentLabelImageFilter<TImage>::AllocateOutputs()
 
 template <typename TImage>
 void
-SmallIsoComponentLabelImageFilter<TImage>::VerifyWholeNumbers(const ImageType * input) const
+SmallIsoComponentLabelImageFilter<TImage>::VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const
 {
   if (!std::is_floating_point<LabelType>::value)
   {
     return;
   }
-  const LabelType * const buffer = input->GetBufferPointer();
-  const SizeValueType     count = input->GetBufferedRegion().GetNumberOfPixels();
-  const LabelType * const bad = std::find_if(buffer, buffer + count, [](LabelType value) {
+  const SizeValueType     count = region.GetNumberOfPixels();
+  const LabelType * const bad = std::find_if(labels, labels + count, [](LabelType value) {
     return !std::isfinite(static_cast<double>(value)) || std::trunc(value) != value;
   });
-  if (bad != buffer + count)
+  if (bad != labels + count)
   {
-    const auto index = input->ComputeIndex(static_cast<OffsetValueType>(bad - buffer));
-    itkExceptionMacro("The label image's sample at " << index << " is " << static_cast<double>(*bad)
+    itkExceptionMacro("The label image's sample at " << IndexOf(region, static_cast<SizeValueType>(bad - labels))
+                                                     << " is " << static_cast<double>(*bad)
                                                      << "; a label image holds whole numbers only.");
   }
 }
@@ -384,75 +420,172 @@ SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType * input
 }
 
 template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const
+{
+  if (!m_UseMaximumComponentVolume)
+  {
+    return m_MaximumComponentSize;
+  }
+  double voxelVolume = 1.0;
+  for (unsigned int a = 0; a < ImageDimension; ++a)
+  {
+    voxelVolume *= spacing[a];
+  }
+  return SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume);
+}
+
+template <typename TImage>
+template <typename TFunction>
+void
+SmallIsoComponentLabelImageFilter<TImage>::ForEachLine(const RegionType &  inner,
+                                                       const RegionType &  outer,
+                                                       TFunction &&        function,
+                                                       MultiThreaderBase * threader)
+{
+  SizeValueType lines = 1;
+  for (unsigned int a = 1; a < ImageDimension; ++a)
+  {
+    lines *= inner.GetSize(a);
+  }
+  const auto lineFunction = [&](SizeValueType line) {
+    SizeValueType outerOffset = static_cast<SizeValueType>(inner.GetIndex(0) - outer.GetIndex(0));
+    SizeValueType stride = outer.GetSize(0);
+    for (unsigned int a = 1; a < ImageDimension; ++a)
+    {
+      outerOffset +=
+        (line % inner.GetSize(a) + static_cast<SizeValueType>(inner.GetIndex(a) - outer.GetIndex(a))) * stride;
+      line /= inner.GetSize(a);
+      stride *= outer.GetSize(a);
+    }
+    return outerOffset;
+  };
+  if (threader == nullptr || lines < 2)
+  {
+    for (SizeValueType line = 0; line < lines; ++line)
+    {
+      function(line * inner.GetSize(0), lineFunction(line));
+    }
+    return;
+  }
+  const SizeValueType slabs = std::min(
+    lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * SmallIsoComponentDetail::Tuning::SlabsPerWorkUnit);
+  threader->ParallelizeArray(
+    0,
+    slabs,
+    [&](SizeValueType slab) {
+      for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
+      {
+        function(line * inner.GetSize(0), lineFunction(line));
+      }
+    },
+    nullptr);
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::CopyLines(const LabelType *   source,
+                                                     const RegionType &  sourceRegion,
+                                                     LabelType *         target,
+                                                     const RegionType &  targetRegion,
+                                                     const RegionType &  region,
+                                                     MultiThreaderBase * threader)
+{
+  // Where each line of the region starts in the target, from where it starts in the region.
+  ForEachLine(
+    region,
+    targetRegion,
+    [&](SizeValueType inRegion, SizeValueType inTarget) {
+      SizeValueType inSource = 0;
+      SizeValueType rest = inRegion;
+      SizeValueType stride = 1;
+      for (unsigned int a = 0; a < ImageDimension; ++a)
+      {
+        inSource +=
+          (rest % region.GetSize(a) + static_cast<SizeValueType>(region.GetIndex(a) - sourceRegion.GetIndex(a))) *
+          stride;
+        rest /= region.GetSize(a);
+        stride *= sourceRegion.GetSize(a);
+      }
+      std::copy_n(source + inSource, region.GetSize(0), target + inTarget);
+    },
+    threader);
+}
+
+template <typename TImage>
 void
 SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
 {
   const ImageType * input = this->GetInput();
-  this->VerifyWholeNumbers(input);
-  this->AllocateOutputs();
-  const SizeType                   size = input->GetBufferedRegion().GetSize();
-  const std::vector<SizeValueType> extent(size.begin(), size.end());
-  double                           voxelVolume = 1.0;
-  for (unsigned int a = 0; a < ImageDimension; ++a)
+  // The part read: the output's region and its halo, or the whole image.
+  const RegionType  region = input->GetRequestedRegion();
+  const LabelType * labels = input->GetBufferPointer();
+  if (region != input->GetBufferedRegion())
   {
-    voxelVolume *= input->GetSpacing()[a];
+    m_Part.resize(region.GetNumberOfPixels());
+    CopyLines(labels, input->GetBufferedRegion(), m_Part.data(), region, region);
+    labels = m_Part.data();
   }
-  m_EffectiveMaximumComponentSize =
-    m_UseMaximumComponentVolume
-      ? SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume)
-      : m_MaximumComponentSize;
+  this->VerifyWholeNumbers(labels, region);
+  this->AllocateOutputs();
+  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(input->GetSpacing());
   m_NumberOfModifiedVoxels = 0;
   m_NumberOfUnrepairableVoxels = 0;
 
-  const LabelType * const inputBuffer = input->GetBufferPointer();
+  const SizeType                   size = region.GetSize();
+  const std::vector<SizeValueType> extent(size.begin(), size.end());
   this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  m_Components.Find(inputBuffer, extent, m_FullyConnected, this->GetMultiThreader());
+  m_Components.Find(labels, extent, m_FullyConnected, this->GetMultiThreader());
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals();
-  const std::vector<Repair> repairs = this->RepairRemoved(inputBuffer, size);
+  const std::vector<Repair> repairs = this->RepairRemoved(labels, size);
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
+  this->WriteOutputs(labels, region, repairs);
+  this->UpdateProgress(1.0f);
+}
 
-  ImageType * output = this->GetOutput();
-  LabelType * outputBuffer = output->GetBufferPointer();
-  if (outputBuffer != inputBuffer)
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *           labels,
+                                                        const RegionType &          region,
+                                                        const std::vector<Repair> & repairs)
+{
+  ImageType *      output = this->GetOutput();
+  const RegionType outputRegion = output->GetBufferedRegion();
+  LabelType *      outputBuffer = output->GetBufferPointer();
+  if (outputBuffer != labels)
   {
-    // In parallel: the first touch of each page of a fresh output is what the copy costs.
-    const SizeValueType voxels = input->GetBufferedRegion().GetNumberOfPixels();
-    const SizeValueType parts =
-      SizeValueType{ this->GetNumberOfWorkUnits() } * SmallIsoComponentDetail::Tuning::SlabsPerWorkUnit;
-    this->GetMultiThreader()->ParallelizeArray(
-      0,
-      parts,
-      [=](SizeValueType part) {
-        std::copy(inputBuffer + voxels * part / parts,
-                  inputBuffer + voxels * (part + 1) / parts,
-                  outputBuffer + voxels * part / parts);
-      },
-      nullptr);
+    CopyLines(labels, region, outputBuffer, outputRegion, outputRegion, this->GetMultiThreader());
   }
   for (const Repair & repair : repairs)
   {
-    outputBuffer[repair.Offset] = repair.Label;
+    const IndexType index = IndexOf(region, repair.Offset);
+    if (outputRegion.IsInside(index))
+    {
+      outputBuffer[output->ComputeOffset(index)] = repair.Label;
+    }
   }
   m_NumberOfModifiedVoxels = repairs.size();
   if (m_GenerateRemovedMask)
   {
     uint8_t * const mask = this->GetRemovedMask()->GetBufferPointer();
-    for (SizeValueType line = 0; line < m_Components.GetNumberOfLines(); ++line)
-    {
+    ForEachLine(outputRegion, region, [this, mask, &region, &outputRegion](SizeValueType inner, SizeValueType outer) {
+      const SizeValueType line = outer / region.GetSize(0);
+      const SizeValueType first = outer % region.GetSize(0);
+      const SizeValueType last = first + outputRegion.GetSize(0);
       for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
       {
         if (m_Removed[m_Components.Component(run)])
         {
-          std::fill(
-            mask + line * size[0] + m_Components.Start(run), mask + line * size[0] + m_Components.End(run, line), 1);
+          const SizeValueType begin = std::max(first, m_Components.Start(run));
+          const SizeValueType end = std::min(last, m_Components.End(run, line));
+          std::fill(mask + inner + begin - first, mask + inner + std::max(begin, end) - first, 1);
         }
       }
-    }
+    });
   }
-  this->UpdateProgress(1.0f);
 }
 
 template <typename TImage>

@@ -21,6 +21,9 @@
 #include "itkSmallIsoComponentLabelImageFilter.h"
 #include "itkSmallIsoComponentLabelReference.h"
 #include "itkSmallIsoComponentTestUtilities.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkShiftScaleImageFilter.h"
+#include "itkStreamingImageFilter.h"
 #include "gtest/gtest.h"
 #include <cmath>
 
@@ -224,6 +227,115 @@ TEST(SmallIsoComponentLabelImageFilter, MatchesReferenceForWideAndFloatLabels)
     ExpectSameAsReference<float, 3>(seed + 200, coverage);
   }
   coverage.ExpectEnough();
+}
+
+/** Parameters drawn from \a random for a label map of \a ids. */
+template <typename TFilter, typename TLabel>
+void
+DrawSettings(RandomSource & random, const std::vector<TLabel> & ids, TFilter * filter)
+{
+  // Small K, so that the halo leaves most of the image out of a part.
+  filter->SetMaximumComponentSize(static_cast<SizeValueType>(random.Between(1, 4)));
+  if (random.Chance(0.3))
+  {
+    filter->SetMaximumComponentSizes({ { ids[random.Bits() % ids.size()], random.Between(0, 6) } });
+  }
+  filter->SetSelection(static_cast<SelectionEnum>(random.Between(0, 2)));
+  filter->SetBackgroundValue(ids[random.Bits() % ids.size()]);
+  filter->SetKeepLargestComponents(random.Chance(0.15) ? 1 : 0);
+  filter->SetFullyConnected(random.Chance(0.4));
+  filter->SetGenerateRemovedMask(true);
+}
+
+/** A random region inside \a whole. */
+template <unsigned int VDimension>
+ImageRegion<VDimension>
+DrawRegion(RandomSource & random, const ImageRegion<VDimension> & whole)
+{
+  ImageRegion<VDimension> region;
+  for (unsigned int a = 0; a < VDimension; ++a)
+  {
+    const auto first = random.Between(0, static_cast<int64_t>(whole.GetSize(a)) - 1);
+    region.SetIndex(a, first);
+    region.SetSize(a, static_cast<SizeValueType>(random.Between(1, static_cast<int64_t>(whole.GetSize(a)) - first)));
+  }
+  return region;
+}
+
+/** Any part of the output, alone or as a piece of a streamed output, is that part of the whole
+ * image's output: the filter reads the part with a halo of twice the largest K, and keeps what
+ * reaches the halo's open border. */
+template <unsigned int VDimension>
+void
+ExpectPartsOfTheWhole(uint32_t seed)
+{
+  using ImageType = Image<uint16_t, VDimension>;
+  using FilterType = SmallIsoComponentLabelImageFilter<ImageType>;
+  RandomSource                          random(seed);
+  std::array<SizeValueType, VDimension> size;
+  for (SizeValueType & extent : size)
+  {
+    extent = static_cast<SizeValueType>(random.Between(VDimension == 2 ? 40 : 16, VDimension == 2 ? 100 : 32));
+  }
+  const std::vector<uint16_t> ids{ 0, 1, 2, 3, 7 };
+  const auto                  input =
+    SmallIsoComponentTest::MakeImage<uint16_t, VDimension>(size, DrawLabels<uint16_t, VDimension>(random, size, ids));
+  auto whole = FilterType::New();
+  whole->SetInput(input);
+  DrawSettings(random, ids, whole.GetPointer());
+  whole->Update();
+
+  const auto same = [&whole](FilterType * filter) {
+    filter->SetMaximumComponentSize(whole->GetMaximumComponentSize());
+    filter->SetMaximumComponentSizes(whole->GetMaximumComponentSizes());
+    filter->SetSelection(whole->GetSelection());
+    filter->SetBackgroundValue(whole->GetBackgroundValue());
+    filter->SetKeepLargestComponents(whole->GetKeepLargestComponents());
+    filter->SetFullyConnected(whole->GetFullyConnected());
+    filter->SetGenerateRemovedMask(true);
+  };
+  const std::string what = "seed " + std::to_string(seed);
+  for (unsigned int trial = 0; trial < 4; ++trial)
+  {
+    auto part = FilterType::New();
+    part->SetInput(input);
+    same(part);
+    const ImageRegion<VDimension> region = DrawRegion(random, input->GetLargestPossibleRegion());
+    part->UpdateOutputInformation();
+    part->GetOutput()->SetRequestedRegion(region);
+    part->GetOutput()->Update();
+    // Keep-largest needs the whole image, and makes it.
+    ASSERT_EQ(part->GetOutput()->GetBufferedRegion(),
+              part->GetKeepLargestComponents() > 0 ? input->GetLargestPossibleRegion() : region)
+      << what;
+    SizeValueType wrong = 0;
+    for (ImageRegionConstIteratorWithIndex<ImageType> it(part->GetOutput(), region); !it.IsAtEnd(); ++it)
+    {
+      wrong += it.Get() != whole->GetOutput()->GetPixel(it.GetIndex()) ||
+               part->GetRemovedMask()->GetPixel(it.GetIndex()) != whole->GetRemovedMask()->GetPixel(it.GetIndex());
+    }
+    EXPECT_EQ(wrong, 0u) << what << ", region " << region;
+  }
+  // Streamed in pieces from a source that makes only the region asked of it.
+  auto source = ShiftScaleImageFilter<ImageType, ImageType>::New();
+  source->SetInput(input);
+  auto filter = FilterType::New();
+  filter->SetInput(source->GetOutput());
+  same(filter);
+  auto streamer = StreamingImageFilter<ImageType, ImageType>::New();
+  streamer->SetInput(filter->GetOutput());
+  streamer->SetNumberOfStreamDivisions(static_cast<unsigned int>(random.Between(2, 9)));
+  streamer->Update();
+  EXPECT_EQ(SmallIsoComponentTest::CountDifferentVoxels(streamer->GetOutput(), whole->GetOutput()), 0u) << what;
+}
+
+TEST(SmallIsoComponentLabelImageFilter, PartsAndStreamedPiecesAreThoseOfTheWholeImage)
+{
+  for (uint32_t seed = 5001; seed <= 5060; ++seed)
+  {
+    ExpectPartsOfTheWhole<2>(seed);
+    ExpectPartsOfTheWhole<3>(seed + 100);
+  }
 }
 
 /** The same result in place as out of place. */
