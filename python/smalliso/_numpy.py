@@ -77,20 +77,35 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     return_mask = _arguments.check_flag(return_mask, "return_mask")
     return_stats = _arguments.check_flag(return_stats, "return_stats")
     in_place = _arguments.check_flag(in_place, "in_place")
-    if isinstance(array, np.ma.MaskedArray):
-        # numpy.asarray drops the mask: the masked voxels' hidden values would be filtered as data.
-        raise TypeError("array is a masked array, whose mask the filter cannot honour; expected a plain array, such "
-                        "as array.filled(value) with a value on the side the masked voxels belong to")
-    if in_place and out is not None:
-        raise ValueError("give out or in_place=True, not both (out=array filters array in place)")
-    if in_place or out is array:
-        target = _writable_target(array, "array", "leave in_place off")
-    else:
-        array = np.asarray(array)
-        target = None
+    array, target = _prepare(array, out, in_place, "a value on the side the masked voxels belong to")
     _arguments.check_dtype(array.dtype)
     _arguments.check_shape(array.shape)
     spacing = _arguments.check_spacing(spacing, array.ndim)
+    array, target = _place(array, target, out)
+    output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
+                                       side, fully_connected, spacing, target is not None, return_mask,
+                                       work_units)
+    return _result(target if target is not None else output, mask if return_mask else None,
+                   stats if return_stats else None)
+
+
+def _prepare(array, out, in_place, fill_hint):
+    """(array, target): the input as an ndarray, and itself as the target when it is filtered in
+    place (else None); ``fill_hint`` says what a masked array's masked voxels could be filled with."""
+    if isinstance(array, np.ma.MaskedArray):
+        # numpy.asarray drops the mask: the masked voxels' hidden values would be filtered as data.
+        raise TypeError("array is a masked array, whose mask the filter cannot honour; expected a plain array, such "
+                        f"as array.filled(value) with {fill_hint}")
+    if in_place and out is not None:
+        raise ValueError("give out or in_place=True, not both (out=array filters array in place)")
+    if in_place or out is array:
+        return array, _writable_target(array, "array", "leave in_place off")
+    return np.asarray(array), None
+
+
+def _place(array, target, out):
+    """(array, target) once the checked input is copied into ``out``, or copied into an aligned,
+    contiguous array when the filter could not read it where it is."""
     if out is not None and target is None:
         target = _writable_target(out, "out", "give no out")
         if out.shape != array.shape or out.dtype != array.dtype:
@@ -104,14 +119,12 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         # The filter reads whole samples: a strided view, or samples at addresses not aligned for
         # the dtype (a view of raw bytes, a buffer unpickled from another process), get a copy.
         array = np.require(array, requirements=("C", "A"))
-    output, mask, stats = _core.filter(target if target is not None else array, isovalue, max_size, max_volume,
-                                       side, fully_connected, spacing, target is not None, return_mask,
-                                       work_units)
-    result = (target if target is not None else output,)
-    if return_mask:
-        result += (mask,)
-    if return_stats:
-        result += (stats,)
+    return array, target
+
+
+def _result(filtered, mask, stats):
+    """The filtered array alone, or a tuple with the mask and the statistics asked for (not None)."""
+    result = (filtered,) + tuple(part for part in (mask, stats) if part is not None)
     return result[0] if len(result) == 1 else result
 
 

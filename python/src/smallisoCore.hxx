@@ -18,6 +18,7 @@
 #ifndef smallisoCore_hxx
 #define smallisoCore_hxx
 
+#include "smallisoArrays.h"
 #include "smallisoCore.h"
 #include "smallisoStatistics.h"
 
@@ -30,26 +31,6 @@ namespace smalliso
 {
 namespace detail
 {
-/** A NumPy array over the buffer of \a image, which the array keeps alive: C order, or Fortran
- * order when \a fortran. */
-template <typename TImage>
-py::array
-ArrayOf(TImage * image, const std::vector<py::ssize_t> & shape, bool fortran)
-{
-  using PixelType = typename TImage::PixelType;
-  std::vector<py::ssize_t> strides(shape.size());
-  py::ssize_t              stride = sizeof(PixelType);
-  for (std::size_t k = 0; k < shape.size(); ++k)
-  {
-    const std::size_t axis = fortran ? k : shape.size() - 1 - k;
-    strides[axis] = stride;
-    stride *= shape[axis];
-  }
-  auto *      owner = new typename TImage::Pointer(image);
-  py::capsule capsule(owner, [](void * pointer) { delete static_cast<typename TImage::Pointer *>(pointer); });
-  return py::array(py::dtype::of<PixelType>(), shape, strides, image->GetBufferPointer(), capsule);
-}
-
 template <typename TPixel, unsigned int VDimension>
 py::tuple
 FilterImage(py::array_t<TPixel> &       array,
@@ -63,21 +44,7 @@ FilterImage(py::array_t<TPixel> &       array,
   using FilterType = itk::SmallIsoComponentImageFilter<ImageType>;
   // ITK's x is the fastest axis: a C-ordered array's last axis, a Fortran-ordered array's first.
   const bool fortran = (array.flags() & py::array::c_style) == 0;
-  const auto numpyAxis = [fortran](unsigned int itkAxis) { return fortran ? itkAxis : VDimension - 1 - itkAxis; };
-  typename ImageType::SizeType    size;
-  typename ImageType::SpacingType itkSpacing;
-  for (unsigned int axis = 0; axis < VDimension; ++axis)
-  {
-    size[axis] = static_cast<itk::SizeValueType>(array.shape(numpyAxis(axis)));
-    itkSpacing[axis] = spacing.empty() ? 1.0 : spacing[numpyAxis(axis)];
-  }
-  auto image = ImageType::New();
-  image->SetRegions(size);
-  auto container = ImageType::PixelContainer::New();
-  // The filter writes the input only in place, where the caller gives a writable array.
-  container->SetImportPointer(const_cast<TPixel *>(array.data()), static_cast<itk::SizeValueType>(array.size()), false);
-  image->SetPixelContainer(container);
-  image->SetSpacing(itkSpacing);
+  const auto image = ImageOf<ImageType>(array, spacing);
 
   auto filter = FilterType::New();
   filter->SetInput(image);

@@ -195,19 +195,7 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
     return_mask = _arguments.check_flag(return_mask, "return_mask")
     return_stats = _arguments.check_flag(return_stats, "return_stats")
-    if _is_stored(array):
-        source = _StoredInput(array, _task_chunks(chunks, array))
-    else:
-        array = da.asarray(array)
-        if isinstance(array._meta, np.ma.MaskedArray):
-            # Each chunk would reach the filter through numpy.asarray, which drops its mask: the masked
-            # voxels' hidden values would be filtered as data.
-            raise TypeError("array is a Dask array of masked arrays, whose mask the filter cannot honour; expected "
-                            "a plain array, such as dask.array.ma.filled(array, value) with a value on the side the "
-                            "masked voxels belong to")
-        if any(np.isnan(extent) for extents in array.chunks for extent in extents):
-            raise ValueError("the Dask array has unknown chunk sizes; call array.compute_chunk_sizes() first")
-        source = _DaskInput(array if chunks is None else array.rechunk(_task_chunks(chunks, array)))
+    source = input_of(array, chunks, "a value on the side the masked voxels belong to")
     dtype = _arguments.check_dtype(source.dtype)
     shape = _arguments.check_shape(source.shape)
     ndim = len(shape)
@@ -252,6 +240,22 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
     if return_stats:
         result += (_Statistics(names["statistics"], graph, layer=names["statistics"]),)
     return result[0] if len(result) == 1 else result
+
+
+def input_of(array, chunks, fill_hint):
+    """The input, a _StoredInput or a _DaskInput, of tasks of ``chunks``; ``fill_hint`` says what a
+    masked array's masked voxels could be filled with."""
+    if _is_stored(array):
+        return _StoredInput(array, _task_chunks(chunks, array))
+    array = da.asarray(array)
+    if isinstance(array._meta, np.ma.MaskedArray):
+        # Each chunk would reach the filter through numpy.asarray, which drops its mask: the masked
+        # voxels' hidden values would be filtered as data.
+        raise TypeError("array is a Dask array of masked arrays, whose mask the filter cannot honour; expected "
+                        f"a plain array, such as dask.array.ma.filled(array, value) with {fill_hint}")
+    if any(np.isnan(extent) for extents in array.chunks for extent in extents):
+        raise ValueError("the Dask array has unknown chunk sizes; call array.compute_chunk_sizes() first")
+    return _DaskInput(array if chunks is None else array.rechunk(_task_chunks(chunks, array)))
 
 
 def _task_chunks(chunks, array):
