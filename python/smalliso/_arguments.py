@@ -31,11 +31,13 @@ def check_dtype(dtype):
     return dtype
 
 
-def check_shape(shape):
-    """The shape of a 2-D or 3-D array with at least one voxel."""
+def check_shape(shape, dimensions=(2, 3)):
+    """The shape of an array of one of the ``dimensions`` with at least one voxel."""
     shape = tuple(int(extent) for extent in shape)
-    if len(shape) not in (2, 3):
-        raise ValueError(f"the array is {len(shape)}-D (shape {shape}); expected a 2-D or 3-D array")
+    if len(shape) not in dimensions:
+        names = [f"{d}-D" for d in dimensions]
+        raise ValueError(f"the array is {len(shape)}-D (shape {shape}); expected a "
+                         f"{', '.join(names[:-1])} or {names[-1]} array")
     if 0 in shape:
         raise ValueError(f"the array is empty (shape {shape}); it must have at least one voxel")
     return shape
@@ -125,4 +127,79 @@ def check_threads(threads):
     if not 1 <= count <= _core.max_threads:
         raise ValueError(
             f"threads is {count}; it must be between 1 and {_core.max_threads} (or None for ITK's default)")
+    return count
+
+
+SELECTIONS = ("all", "islands", "holes")
+
+
+def check_label_dtype(dtype):
+    """The label map's dtype, if the label filter supports it."""
+    dtype = np.dtype(dtype)
+    if dtype.name not in _core.label_types:
+        raise TypeError(f"dtype {dtype} is not supported for label maps; expected one of "
+                        f"{', '.join(_core.label_types)} (convert with labels.astype(...))")
+    if not dtype.isnative:
+        raise TypeError(f"the label map's dtype {dtype.str} is not in the machine's byte order; convert it with "
+                        "labels.astype(labels.dtype.newbyteorder('='))")
+    return dtype
+
+
+def check_label(value, dtype, name):
+    """``value`` as a label of a map of ``dtype``: a whole number that the dtype holds exactly."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a label (a whole number), not {value!r}")
+    if isinstance(value, (float, np.floating)):
+        if not (math.isfinite(value) and value == int(value)):
+            raise ValueError(f"{name} is {value!r}; a label is a whole number")
+    value = int(value)
+    if dtype.kind == "f":
+        try:
+            with np.errstate(over="ignore"):
+                holds = int(dtype.type(value)) == value
+        except OverflowError:
+            holds = False
+    else:
+        holds = np.iinfo(dtype).min <= value <= np.iinfo(dtype).max
+    if not holds:
+        raise ValueError(f"{name} is {value}, which a label map of dtype {dtype} cannot hold")
+    return value
+
+
+def check_select(select, dtype):
+    """(selection, labels): "all", "islands" or "holes" with no labels, or "listed" with the
+    labels of a non-empty sequence."""
+    if isinstance(select, str):
+        if select not in SELECTIONS:
+            raise ValueError(f"select is {select!r}; expected 'all', 'islands', 'holes' or a list of labels")
+        return select, []
+    try:
+        labels = list(select)
+    except TypeError:
+        raise TypeError(f"select must be 'all', 'islands', 'holes' or a list of labels, not {select!r}") from None
+    if not labels:
+        raise ValueError("select is an empty list of labels; give at least one label, or 'all'")
+    return "listed", [check_label(label, dtype, "a label of select") for label in labels]
+
+
+def check_max_sizes(max_sizes, dtype):
+    """(labels, sizes) of a dict label -> K (None: no label has its own K)."""
+    if max_sizes is None:
+        return [], []
+    if not hasattr(max_sizes, "items"):
+        raise TypeError(f"max_sizes must be a dict label -> K (voxels), not {max_sizes!r}")
+    labels, sizes = [], []
+    for label, size in max_sizes.items():
+        labels.append(check_label(label, dtype, "a label of max_sizes"))
+        try:
+            sizes.append(check_max_size(size))
+        except (TypeError, ValueError) as error:
+            raise type(error)(f"max_sizes[{label!r}]: {error}") from None
+    return labels, sizes
+
+
+def check_keep_largest(keep_largest):
+    count = _whole_number(keep_largest, "keep_largest must be a whole number of components")
+    if not 0 <= count <= _MAX_SIZE_LIMIT:
+        raise ValueError(f"keep_largest is {count}; it must be >= 0 (0 keeps every component that is large enough)")
     return count

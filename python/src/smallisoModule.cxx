@@ -18,6 +18,7 @@
 // smalliso._core: the compiled core of the smalliso package (see smallisoCore.h).
 
 #include "smallisoCore.h"
+#include "smallisoLabels.h"
 #include "smallisoPixelTypes.h"
 #include "smallisoStatistics.h"
 
@@ -135,6 +136,7 @@ PYBIND11_MODULE(_core, module)
   });
   module.attr("pixel_types") = PixelTypeNames();
   module.attr("max_threads") = ITK_MAX_THREADS;
+  DefineLabelFunctions(module);
 
   module.def(
     "filter",
