@@ -44,38 +44,73 @@ constexpr PixelTypeEntry SupportedTypes[] = {
   { itk::IOComponentEnum::FLOAT, "float32", "MET_FLOAT", "float", 4 },
   { itk::IOComponentEnum::DOUBLE, "float64", "MET_DOUBLE", "double", 8 },
 };
+
+// The types only label maps take besides those (sicScalarImageDispatch.h's DispatchLabelImage): ITK names an 8-byte
+// integer LONG or LONGLONG, depending on the reader and on the platform's long.
+constexpr bool           LongIs64 = sizeof(long) == 8;
+constexpr PixelTypeEntry WideLabelTypes[] = {
+  { itk::IOComponentEnum::ULONGLONG, "uint64", "MET_ULONG_LONG", "uint64", 8 },
+  { itk::IOComponentEnum::LONGLONG, "int64", "MET_LONG_LONG", "int64", 8 },
+  { itk::IOComponentEnum::ULONG, LongIs64 ? "uint64" : "uint32", "MET_ULONG", "uint64", sizeof(long) },
+  { itk::IOComponentEnum::LONG, LongIs64 ? "int64" : "int32", "MET_LONG", "int64", sizeof(long) },
+};
+
+template <std::size_t VSize>
+const PixelTypeEntry *
+FindIn(const PixelTypeEntry (&types)[VSize], itk::IOComponentEnum componentType)
+{
+  const auto found = std::find_if(std::begin(types), std::end(types), [componentType](const PixelTypeEntry & entry) {
+    return entry.ComponentType == componentType;
+  });
+  return found == std::end(types) ? nullptr : found;
+}
+
+template <std::size_t VSize>
+std::string
+Names(const PixelTypeEntry (&types)[VSize], std::string names)
+{
+  for (const PixelTypeEntry & entry : types)
+  {
+    // Several ITK types may share a name (LONG and LONGLONG): each name once.
+    if ((", " + names + ", ").find(", " + std::string(entry.Name) + ", ") == std::string::npos)
+    {
+      names += (names.empty() ? "" : ", ") + std::string(entry.Name);
+    }
+  }
+  return names;
+}
 } // namespace
 
 const PixelTypeEntry *
 FindPixelType(itk::IOComponentEnum componentType)
 {
-  const auto found =
-    std::find_if(std::begin(SupportedTypes), std::end(SupportedTypes), [componentType](const PixelTypeEntry & entry) {
-      return entry.ComponentType == componentType;
-    });
-  return found == std::end(SupportedTypes) ? nullptr : found;
+  return FindIn(SupportedTypes, componentType);
 }
 
 std::string
 PixelTypeName(itk::IOComponentEnum componentType)
 {
   const PixelTypeEntry * entry = FindPixelType(componentType);
+  entry = entry != nullptr ? entry : FindIn(WideLabelTypes, componentType);
   return entry != nullptr ? entry->Name : itk::ImageIOBase::GetComponentTypeAsString(componentType);
 }
 
 std::string
 SupportedPixelTypes()
 {
-  std::string names;
-  for (const PixelTypeEntry & entry : SupportedTypes)
-  {
-    names += (names.empty() ? "" : ", ") + std::string(entry.Name);
-  }
-  return names;
+  return Names(SupportedTypes, "");
 }
 
+std::string
+SupportedLabelPixelTypes()
+{
+  return Names(WideLabelTypes, SupportedPixelTypes());
+}
+
+namespace
+{
 ScalarImageInfo
-ReadScalarImageInfo(const std::string & path, const std::string & what)
+ReadImageInfo(const std::string & path, const std::string & what, bool labels)
 {
   const std::string name = what + " " + Quoted(path);
   const auto        cannotRead = [&](const std::string & why) { throw ToolError("cannot read " + name + ": " + why); };
@@ -144,10 +179,12 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
                     itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
                     "); expected a scalar image, one value per voxel");
   }
-  if (FindPixelType(info.ComponentType) == nullptr)
+  if (FindPixelType(info.ComponentType) == nullptr &&
+      (!labels || FindIn(WideLabelTypes, info.ComponentType) == nullptr))
   {
     throw ToolError(name + " has pixel type " + PixelTypeName(info.ComponentType) +
-                    ", which is not supported; expected one of " + SupportedPixelTypes());
+                    ", which is not supported; expected one of " +
+                    (labels ? SupportedLabelPixelTypes() : SupportedPixelTypes()));
   }
   if (info.Dimension != 2 && info.Dimension != 3)
   {
@@ -192,6 +229,20 @@ ReadScalarImageInfo(const std::string & path, const std::string & what)
   info.Files = parts.Files;
   return info;
 }
+} // namespace
+
+ScalarImageInfo
+ReadScalarImageInfo(const std::string & path, const std::string & what)
+{
+  return ReadImageInfo(path, what, false);
+}
+
+ScalarImageInfo
+ReadLabelImageInfo(const std::string & path, const std::string & what)
+{
+  return ReadImageInfo(path, what, true);
+}
+
 
 void
 CheckPngFileName(const std::string & path, const std::string & what)

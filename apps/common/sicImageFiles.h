@@ -55,6 +55,10 @@ struct ScalarImageInfo
 ScalarImageInfo
 ReadScalarImageInfo(const std::string & path, const std::string & what);
 
+/** ReadScalarImageInfo() for a label map, which may also hold 64-bit integers (SupportedLabelPixelTypes()). */
+ScalarImageInfo
+ReadLabelImageInfo(const std::string & path, const std::string & what);
+
 /** A pixel type the tools process, with its names: the tools' own, and in MetaImage and NRRD headers. */
 struct PixelTypeEntry
 {
@@ -69,13 +73,18 @@ struct PixelTypeEntry
 const PixelTypeEntry *
 FindPixelType(itk::IOComponentEnum componentType);
 
-/** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32" or "float64"; the ITK name for any other type. */
+/** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64", or for label maps "uint64" or "int64";
+ * the ITK name for any other type. */
 std::string
 PixelTypeName(itk::IOComponentEnum componentType);
 
 /** The supported pixel types, for messages: "uint8, int8, ..., float64". */
 std::string
 SupportedPixelTypes();
+
+/** The pixel types of label maps, for messages: SupportedPixelTypes() and the 64-bit integers. */
+std::string
+SupportedLabelPixelTypes();
 
 /** Throws ToolError unless an ITK image writer handles \a path's extension and, as far as
  * known, can store an image of \a dimension dimensions (PNG, BMP and JPEG are 2-D only). */

@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <type_traits>
 
 namespace sic
 {
@@ -74,6 +75,22 @@ DispatchPixelType(itk::IOComponentEnum componentType, TFunction && function, TUn
   }
 }
 
+/** Calls \a function with the ImageTypeTag of \a TPixel and \a info's dimension, 2 or 3. */
+template <typename TPixel, typename TFunction>
+decltype(auto)
+DispatchDimension(const ScalarImageInfo & info, TFunction && function)
+{
+  if (info.Dimension == 2)
+  {
+    return function(ImageTypeTag<TPixel, 2>{});
+  }
+  if (info.Dimension == 3)
+  {
+    return function(ImageTypeTag<TPixel, 3>{});
+  }
+  throw std::logic_error("DispatchDimension: unsupported dimension " + std::to_string(info.Dimension));
+}
+
 /** Calls \a function with the ImageTypeTag of the image \a info describes: its own pixel type and dimension, so the
  * image is processed without conversion. \a info must come from ReadScalarImageInfo(), which accepts exactly the types
  * handled here. Every instantiation of \a function must return the same type. */
@@ -84,20 +101,34 @@ DispatchScalarImage(const ScalarImageInfo & info, TFunction && function)
   return DispatchPixelType(
     info.ComponentType,
     [&](auto pixel) -> decltype(auto) {
-      using PixelType = typename decltype(pixel)::PixelType;
-      if (info.Dimension == 2)
-      {
-        return function(ImageTypeTag<PixelType, 2>{});
-      }
-      if (info.Dimension == 3)
-      {
-        return function(ImageTypeTag<PixelType, 3>{});
-      }
-      throw std::logic_error("DispatchScalarImage: unsupported dimension " + std::to_string(info.Dimension));
+      return DispatchDimension<typename decltype(pixel)::PixelType>(info, function);
     },
     [&] {
       return std::logic_error("DispatchScalarImage: unsupported pixel type " + PixelTypeName(info.ComponentType));
     });
+}
+
+/** DispatchScalarImage() for a label map, whose \a info comes from ReadLabelImageInfo(): 64-bit integers too, which
+ * ITK names LONG or LONGLONG by reader and platform (each size is instantiated once). */
+template <typename TFunction>
+decltype(auto)
+DispatchLabelImage(const ScalarImageInfo & info, TFunction && function)
+{
+  using Long = std::conditional_t<sizeof(long) == 8, std::int64_t, std::int32_t>;
+  using UnsignedLong = std::make_unsigned_t<Long>;
+  switch (info.ComponentType)
+  {
+    case itk::IOComponentEnum::LONGLONG:
+      return DispatchDimension<std::int64_t>(info, function);
+    case itk::IOComponentEnum::ULONGLONG:
+      return DispatchDimension<std::uint64_t>(info, function);
+    case itk::IOComponentEnum::LONG:
+      return DispatchDimension<Long>(info, function);
+    case itk::IOComponentEnum::ULONG:
+      return DispatchDimension<UnsignedLong>(info, function);
+    default:
+      return DispatchScalarImage(info, function);
+  }
 }
 } // namespace sic
 
