@@ -25,18 +25,73 @@ namespace sic
 {
 namespace
 {
-nlohmann::ordered_json
+using Json = nlohmann::ordered_json;
+
+/** [size, count] pairs. */
+Json
+HistogramJson(const std::map<std::uint64_t, std::uint64_t> & histogram)
+{
+  Json pairs = Json::array();
+  for (const auto & [size, count] : histogram)
+  {
+    pairs.push_back({ size, count });
+  }
+  return pairs;
+}
+
+Json
 SideJson(const SideReport & side)
 {
-  nlohmann::ordered_json histogram = nlohmann::ordered_json::array();
-  for (const auto & [size, count] : side.Histogram)
-  {
-    histogram.push_back({ size, count });
-  }
   return { { "components", side.Components },
            { "removed_components", side.RemovedComponents },
            { "removed_voxels", side.RemovedVoxels },
-           { "size_histogram", std::move(histogram) } };
+           { "size_histogram", HistogramJson(side.Histogram) } };
+}
+
+/** Each label's statistics, keyed by its id: a JSON key is a string, which holds any id exactly. */
+Json
+LabelsJson(const FilterReport & report)
+{
+  Json labels = Json::object();
+  for (const auto & [id, label] : report.Labels)
+  {
+    labels[id] = { { "components", label.Components },
+                   { "removed_components", label.RemovedComponents },
+                   { "removed_voxels", label.RemovedVoxels },
+                   { "gained_voxels", label.GainedVoxels },
+                   { "size_histogram", HistogramJson(label.Histogram) } };
+  }
+  return labels;
+}
+
+/** The parameters of a label map's run, its label ids as strings as in LabelsJson(). */
+void
+AddLabelParameters(Json & parameters, const FilterSettings & settings)
+{
+  parameters["selection"] = settings.Selection;
+  if (settings.Selection == "listed")
+  {
+    parameters["selected_labels"] = settings.SelectedLabels;
+  }
+  parameters["background"] = settings.Background;
+  Json sizes = Json::object();
+  for (const auto & [id, size] : settings.LabelMaximumSizes)
+  {
+    sizes[id] = size;
+  }
+  parameters["max_size_of"] = std::move(sizes);
+  parameters["keep_largest"] = settings.KeepLargest;
+}
+
+std::uint64_t
+Sum(const FilterReport & report, std::uint64_t SideReport::*member)
+{
+  std::uint64_t sum = 0;
+  for (const auto & entry : report.Labels)
+  {
+    sum += entry.second.*member;
+  }
+  return sum;
 }
 
 double
@@ -55,17 +110,35 @@ void
 WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterReport & report)
 {
   std::ostringstream text;
-  text << "Isovalue " << settings.IsoValue << ", K = " << report.EffectiveMaximumSize << " voxels";
+  if (settings.Labels)
+  {
+    text << "Label map of " << report.Labels.size() << (report.Labels.size() == 1 ? " label" : " labels");
+  }
+  else
+  {
+    text << "Isovalue " << settings.IsoValue;
+  }
+  text << ", K = " << report.EffectiveMaximumSize << " voxels";
   if (settings.UsesVolume())
   {
     text << " (from --max-volume " << *settings.MaximumVolume << " mm³, " << VoxelVolume(report.Input)
          << " mm³ per voxel)";
   }
-  text << ", side " << settings.Side << ", " << (settings.FullyConnected ? "full" : "face") << " connectivity: ";
-  text << "removed " << report.Above.RemovedComponents << " of " << report.Above.Components << " above components ("
-       << report.Above.RemovedVoxels << " voxels) and " << report.Below.RemovedComponents << " of "
-       << report.Below.Components << " below components (" << report.Below.RemovedVoxels << " voxels); "
-       << report.ModifiedVoxels << " voxels modified, " << report.UnrepairableVoxels << " unrepairable. ";
+  if (settings.Labels)
+  {
+    text << (settings.LabelMaximumSizes.empty() ? "" : " (some labels their own)") << ", selection "
+         << settings.Selection << ", " << (settings.FullyConnected ? "full" : "face") << " connectivity: removed "
+         << Sum(report, &SideReport::RemovedComponents) << " of " << Sum(report, &SideReport::Components)
+         << " components (" << Sum(report, &SideReport::RemovedVoxels) << " voxels); ";
+  }
+  else
+  {
+    text << ", side " << settings.Side << ", " << (settings.FullyConnected ? "full" : "face") << " connectivity: ";
+    text << "removed " << report.Above.RemovedComponents << " of " << report.Above.Components << " above components ("
+         << report.Above.RemovedVoxels << " voxels) and " << report.Below.RemovedComponents << " of "
+         << report.Below.Components << " below components (" << report.Below.RemovedVoxels << " voxels); ";
+  }
+  text << report.ModifiedVoxels << " voxels modified, " << report.UnrepairableVoxels << " unrepairable. ";
   if (report.SurfacePiecesBefore || report.SurfacePiecesAfter)
   {
     text << "Isosurface pieces:";
@@ -115,7 +188,6 @@ WriteStatisticsJson(std::ostream &         out,
                     const FilterSettings & settings,
                     const FilterReport &   report)
 {
-  using Json = nlohmann::ordered_json;
   Json input = { { "path", settings.Input },
                  { "pixel_type", PixelTypeName(report.Input.ComponentType) },
                  { "dimension", report.Input.Dimension },
@@ -137,28 +209,42 @@ WriteStatisticsJson(std::ostream &         out,
     }
   }
 
-  Json parameters = { { "isovalue", settings.IsoValue },
-                      { "max_size", settings.UsesVolume() ? Json() : Json(settings.MaximumSize) } };
+  Json parameters = settings.Labels ? Json{ { "labels", true } } : Json{ { "isovalue", settings.IsoValue } };
+  parameters["max_size"] = settings.UsesVolume() ? Json() : Json(settings.MaximumSize);
   if (settings.MaximumVolume)
   {
     parameters["max_volume"] = *settings.MaximumVolume;
   }
   parameters["effective_max_size"] = report.EffectiveMaximumSize;
-  parameters["side"] = settings.Side;
+  if (settings.Labels)
+  {
+    AddLabelParameters(parameters, settings);
+  }
+  else
+  {
+    parameters["side"] = settings.Side;
+  }
   parameters["connectivity"] = settings.FullyConnected ? "full" : "face";
   parameters["threads"] = report.Threads;
   parameters["work_units"] = report.WorkUnits;
 
-  Json statistics = { { "above", SideJson(report.Above) },
-                      { "below", SideJson(report.Below) },
-                      { "modified_voxels", report.ModifiedVoxels },
-                      { "unrepairable_voxels", report.UnrepairableVoxels },
-                      { "seconds", report.FilterSeconds },
-                      { "total_seconds", report.TotalSeconds },
-                      { "peak_extra_bytes", report.PeakExtraBytes },
-                      { "mode", report.Streaming ? "streaming" : "in-memory" },
-                      { "memory_limit_bytes", report.MemoryLimit > 0 ? Json(report.MemoryLimit) : Json() },
-                      { "slab_planes", report.SlabPlanes } };
+  Json statistics = settings.Labels ? Json{ { "labels", LabelsJson(report) } }
+                                    : Json{ { "above", SideJson(report.Above) }, { "below", SideJson(report.Below) } };
+  statistics["modified_voxels"] = report.ModifiedVoxels;
+  statistics["unrepairable_voxels"] = report.UnrepairableVoxels;
+  statistics["seconds"] = report.FilterSeconds;
+  statistics["total_seconds"] = report.TotalSeconds;
+  // The scalar engine's memory figures; the label filter has neither slabs nor streaming.
+  if (!settings.Labels)
+  {
+    statistics["peak_extra_bytes"] = report.PeakExtraBytes;
+  }
+  statistics["mode"] = report.Streaming ? "streaming" : "in-memory";
+  if (!settings.Labels)
+  {
+    statistics["memory_limit_bytes"] = report.MemoryLimit > 0 ? Json(report.MemoryLimit) : Json();
+    statistics["slab_planes"] = report.SlabPlanes;
+  }
   if (report.Streaming)
   {
     statistics["read_seconds"] = report.ReadSeconds;

@@ -25,6 +25,8 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sic
 {
@@ -57,6 +59,19 @@ struct FilterSettings
   /** Whether the outputs are compressed where their format allows (--no-compression: not). */
   bool Compress{ true };
 
+  /** A label map (--labels, or SmallIsoComponentLabelFilter), cleaned with the label filter; no isovalue nor side.
+   * Label ids are kept as text in their canonical spelling (LabelId()), and become labels of the input's pixel type
+   * once it is known. */
+  bool Labels{ false };
+  /** all, islands, holes, or listed (SelectedLabels). */
+  std::string              Selection{ "all" };
+  std::vector<std::string> SelectedLabels;
+  std::string              Background{ "0" };
+  /** --max-size-of: labels with their own K, in voxels. */
+  std::vector<std::pair<std::string, std::uint64_t>> LabelMaximumSizes;
+  /** --keep-largest N; 0: off. */
+  std::uint64_t KeepLargest{ 0 };
+
   bool
   UsesVolume() const
   {
@@ -74,6 +89,13 @@ struct SideReport
   std::map<std::uint64_t, std::uint64_t> Histogram;
 };
 
+/** The statistics of one label of a label map. */
+struct LabelReport : SideReport
+{
+  /** Removed voxels of other labels that took this one. */
+  std::uint64_t GainedVoxels{ 0 };
+};
+
 /** What one run of the filter found and did. */
 struct FilterReport
 {
@@ -84,9 +106,11 @@ struct FilterReport
   std::uint64_t WorkUnits{ 0 };
   SideReport    Above;
   SideReport    Below;
-  std::uint64_t ModifiedVoxels{ 0 };
-  std::uint64_t UnrepairableVoxels{ 0 };
-  std::uint64_t PeakExtraBytes{ 0 };
+  /** Label maps: each label of the input, in ascending order, with its id as text (LabelId()'s spelling). */
+  std::vector<std::pair<std::string, LabelReport>> Labels;
+  std::uint64_t                                    ModifiedVoxels{ 0 };
+  std::uint64_t                                    UnrepairableVoxels{ 0 };
+  std::uint64_t                                    PeakExtraBytes{ 0 };
   /** Connected pieces of the isosurface at the isovalue, when it was extracted: of the input,
    * of the output, and of the triangles filtering took away. */
   std::optional<std::uint64_t> SurfacePiecesBefore;

@@ -296,8 +296,10 @@ class SmallIsoComponentCLITest(ToolTestCase):
             self.assertRegex(flag, r"^--[A-Za-z_][A-Za-z0-9_]*$")  # what Slicer's parser accepts
         help_flags = {line.split()[0] for line in self.check(run(FILTER, "--help")).stdout.splitlines()
                       if line.startswith("  --")}
-        # Options for a shell only: Slicer handles memory and files itself.
-        not_for_slicer = {"--help", "--xml", "--memory-limit", "--no-compression"}
+        # Options for a shell only: Slicer handles memory and files itself, and label maps have their own
+        # executable, SmallIsoComponentLabelFilter.
+        not_for_slicer = {"--help", "--xml", "--memory-limit", "--no-compression", "--labels", "--select",
+                          "--background", "--max-size-of", "--keep-largest"}
         self.assertEqual({flag.replace("_", "-") for flag in longflags}, help_flags - not_for_slicer)
         images = {element.getElementsByTagName("name")[0].firstChild.data: element
                   for element in document.getElementsByTagName("image")}

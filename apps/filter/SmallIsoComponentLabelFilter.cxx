@@ -1,0 +1,27 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// SmallIsoComponentLabelFilter: SmallIsoComponentFilter --labels, whose Slicer description takes and gives label
+// volumes (sicFilterTool).
+
+#include "sicFilterTool.h"
+
+int
+main(int argc, char * argv[])
+{
+  return sic::FilterToolMain(sic::FilterTool::Labels, argc, argv);
+}

@@ -1,0 +1,369 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "sicLabelFilter.h"
+#include "sicCommandLine.h"
+#include "sicImageFiles.h"
+#include "sicProgressReporter.h"
+#include "sicScalarImageDispatch.h"
+#include "sicStrings.h"
+#include "sicToolError.h"
+
+#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentLabelImageFilter.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <set>
+#include <type_traits>
+
+namespace sic
+{
+namespace
+{
+// The options of scalar images, each with why it has no meaning for a label map and what is expected instead.
+const std::pair<const char *, const char *> ScalarOnlyOptions[] = {
+  { "--isovalue", "has no meaning for a label map, whose every distinct value is a label; expected no --isovalue" },
+  { "--side", "has no meaning for a label map; expected --select all|islands|holes or a list of label ids" },
+  { "--memory-limit",
+    "cannot be used with --labels: label maps are filtered in memory only; expected no "
+    "--memory-limit" },
+  { "--surface", "needs an isovalue and cannot be used with --labels; expected no --surface" },
+  { "--surface-before", "needs an isovalue and cannot be used with --labels; expected no --surface-before" },
+  { "--render", "needs an isovalue and cannot be used with --labels; expected no --render" },
+};
+
+const char * const LabelOnlyOptions[] = { "--select", "--background", "--max-size-of", "--keep-largest" };
+
+/** The comma-separated items of \a text, empty ones included. */
+std::vector<std::string>
+Items(const std::string & text)
+{
+  std::vector<std::string> items;
+  for (size_t begin = 0;;)
+  {
+    const size_t comma = text.find(',', begin);
+    items.push_back(Trim(text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin)));
+    if (comma == std::string::npos)
+    {
+      return items;
+    }
+    begin = comma + 1;
+  }
+}
+
+/** Whether \a value is a value of TLabel, which is then set to it: exactly, for floating-point labels. */
+template <typename TLabel, typename TValue>
+bool
+Holds(TValue value, TLabel & label)
+{
+  if constexpr (std::is_floating_point_v<TLabel>)
+  {
+    label = static_cast<TLabel>(value);
+    // A uint64 near 2^64 rounds up to 2^64, which does not convert back.
+    if constexpr (std::is_unsigned_v<TValue>)
+    {
+      if (label >= static_cast<TLabel>(18446744073709551616.0L))
+      {
+        return false;
+      }
+    }
+    return static_cast<TValue>(label) == value;
+  }
+  else
+  {
+    using Limits = std::numeric_limits<TLabel>;
+    label = static_cast<TLabel>(value);
+    if constexpr (std::is_signed_v<TValue>)
+    {
+      return Limits::is_signed && value >= static_cast<TValue>(Limits::min());
+    }
+    else
+    {
+      return value <= static_cast<std::uint64_t>(Limits::max());
+    }
+  }
+}
+
+/** The label that the canonical id \a id names, which must be a value of TLabel. */
+template <typename TLabel>
+TLabel
+LabelOf(const std::string & flag, const std::string & id, itk::IOComponentEnum type)
+{
+  TLabel label{};
+  errno = 0;
+  const bool holds = id[0] == '-' ? Holds(std::strtoll(id.c_str(), nullptr, 10), label)
+                                  : Holds(std::strtoull(id.c_str(), nullptr, 10), label);
+  if (errno == ERANGE || !holds)
+  {
+    throw ToolError(flag + " label " + id + " is not a value of the input's pixel type " + PixelTypeName(type) +
+                    "; expected a label id the input can hold");
+  }
+  return label;
+}
+
+/** \a label as the statistics key it: a whole number, without a sign for 0. */
+template <typename TLabel>
+std::string
+LabelText(TLabel label)
+{
+  if constexpr (std::is_floating_point_v<TLabel>)
+  {
+    char text[400];
+    std::snprintf(text, sizeof(text), "%.0f", static_cast<double>(label) + 0.0);
+    return text;
+  }
+  else if constexpr (std::is_signed_v<TLabel>)
+  {
+    return std::to_string(static_cast<long long>(label));
+  }
+  else
+  {
+    return std::to_string(static_cast<unsigned long long>(label));
+  }
+}
+
+template <typename TFilter>
+void
+SetUpLabelFilter(TFilter & filter, const FilterSettings & settings, itk::IOComponentEnum type)
+{
+  using LabelType = typename TFilter::LabelType;
+  using Selection = itk::SmallIsoComponentLabelEnums::Selection;
+  const auto label = [type](const std::string & flag, const std::string & id) {
+    return LabelOf<LabelType>(flag, id, type);
+  };
+  filter.SetBackgroundValue(label("--background", settings.Background));
+  if (settings.Selection == "listed")
+  {
+    std::vector<LabelType> labels;
+    for (const std::string & id : settings.SelectedLabels)
+    {
+      labels.push_back(label("--select", id));
+    }
+    filter.SetSelectedLabels(labels);
+  }
+  filter.SetSelection(settings.Selection == "listed"    ? Selection::Listed
+                      : settings.Selection == "islands" ? Selection::Islands
+                      : settings.Selection == "holes"   ? Selection::Holes
+                                                        : Selection::All);
+  typename TFilter::LabelSizeMapType sizes;
+  for (const auto & [id, size] : settings.LabelMaximumSizes)
+  {
+    sizes[label("--max-size-of", id)] = size;
+  }
+  filter.SetMaximumComponentSizes(sizes);
+  if (settings.UsesVolume())
+  {
+    filter.SetMaximumComponentVolume(*settings.MaximumVolume);
+  }
+  else
+  {
+    filter.SetMaximumComponentSize(settings.MaximumSize);
+  }
+  filter.SetKeepLargestComponents(settings.KeepLargest);
+  filter.SetFullyConnected(settings.FullyConnected);
+  filter.SetGenerateRemovedMask(!settings.RemovedMask.empty());
+  if (settings.Threads > 0)
+  {
+    filter.SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));
+  }
+  // The input is not needed afterwards: filtering in place saves a copy of the volume.
+  filter.InPlaceOn();
+}
+
+template <typename TFilter>
+void
+ReportLabels(const TFilter & filter, FilterReport & report)
+{
+  report.EffectiveMaximumSize = filter.GetEffectiveMaximumComponentSize();
+  report.Threads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  report.WorkUnits = filter.GetNumberOfWorkUnits();
+  for (const auto & [label, statistics] : filter.GetLabelStatistics())
+  {
+    LabelReport entry;
+    entry.Components = statistics.Components;
+    entry.RemovedComponents = statistics.RemovedComponents;
+    entry.RemovedVoxels = statistics.RemovedVoxels;
+    entry.GainedVoxels = statistics.GainedVoxels;
+    entry.Histogram.insert(statistics.Histogram.begin(), statistics.Histogram.end());
+    report.Labels.emplace_back(LabelText(label), std::move(entry));
+  }
+  report.ModifiedVoxels = filter.GetNumberOfModifiedVoxels();
+  report.UnrepairableVoxels = filter.GetNumberOfUnrepairableVoxels();
+}
+
+template <typename TImage>
+FilterReport
+FilterLabels(const FilterSettings &  settings,
+             const ScalarImageInfo & info,
+             const std::string &     stagedImage,
+             const std::string &     stagedMask,
+             ProgressReporter &      progress)
+{
+  auto filter = itk::SmallIsoComponentLabelImageFilter<TImage>::New();
+  SetUpLabelFilter(*filter, settings, info.ComponentType);
+  progress.Stage("reading " + settings.Input, 0.0, 0.1);
+  filter->SetInput(ReadImage<TImage>(settings.Input, "input", progress.Observer()));
+  filter->AddObserver(itk::ProgressEvent(), progress.Observer());
+
+  progress.Stage("removing small components", 0.1, 0.9);
+  const auto start = std::chrono::steady_clock::now();
+  try
+  {
+    filter->Update();
+  }
+  catch (const itk::MemoryAllocationError &)
+  {
+    throw;
+  }
+  catch (const itk::ProcessAborted &)
+  {
+    throw;
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    // Set up as it is, the filter refuses only a floating-point map with a sample that is not a whole number.
+    if (!std::is_floating_point_v<typename TImage::PixelType>)
+    {
+      throw;
+    }
+    throw ToolError("cannot filter input " + Quoted(settings.Input) +
+                    " as a label map: " + ItkErrorText(error.GetDescription()));
+  }
+  const auto stop = std::chrono::steady_clock::now();
+
+  progress.Stage("writing " + settings.Output, 0.9, settings.RemovedMask.empty() ? 1.0 : 0.97);
+  WriteImage(filter->GetOutput(), stagedImage, settings.Output, "output image", progress.Observer(), settings.Compress);
+  if (!settings.RemovedMask.empty())
+  {
+    progress.Stage("writing " + settings.RemovedMask, 0.97, 1.0);
+    WriteImage(filter->GetRemovedMask(),
+               stagedMask,
+               settings.RemovedMask,
+               "removed-voxel mask",
+               progress.Observer(),
+               settings.Compress);
+  }
+  FilterReport report;
+  ReportLabels(*filter, report);
+  report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
+  return report;
+}
+} // namespace
+
+std::string
+LabelId(const std::string & flag, const std::string & text)
+{
+  const bool   negative = !text.empty() && text[0] == '-';
+  const size_t digits = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+  if (text.size() == digits || text.find_first_not_of("0123456789", digits) != std::string::npos)
+  {
+    throw ToolError(flag + " " + Quoted(text) + " is not a label id; expected a whole number such as 3 or -1");
+  }
+  const size_t      first = std::min(text.find_first_not_of('0', digits), text.size() - 1);
+  const std::string id = text.substr(first);
+  return negative && id != "0" ? "-" + id : id;
+}
+
+void
+ReadLabelSettings(const ParsedCommandLine & arguments, FilterSettings & settings)
+{
+  for (const auto & [flag, why] : ScalarOnlyOptions)
+  {
+    if (arguments.Has(flag))
+    {
+      throw ToolError(std::string(flag) + " " + why);
+    }
+  }
+  if (arguments.Has("--select"))
+  {
+    const std::string text = arguments.Value("--select");
+    const std::string word = Lowercase(Trim(text));
+    if (word == "all" || word == "islands" || word == "holes")
+    {
+      settings.Selection = word;
+    }
+    else if (word.find_first_of("0123456789") == std::string::npos)
+    {
+      throw ToolError("--select " + Quoted(text) +
+                      " is not a valid choice; expected all, islands, holes or label ids such as 3,5,12");
+    }
+    else
+    {
+      settings.Selection = "listed";
+      for (const std::string & item : Items(text))
+      {
+        settings.SelectedLabels.push_back(LabelId("--select", item));
+      }
+    }
+  }
+  if (arguments.Has("--background"))
+  {
+    settings.Background = LabelId("--background", Trim(arguments.Value("--background")));
+  }
+  std::set<std::string> sized;
+  for (const std::string & value : arguments.Values("--max-size-of"))
+  {
+    for (const std::string & item : Items(value))
+    {
+      const size_t equals = item.find('=');
+      if (equals == std::string::npos)
+      {
+        throw ToolError("--max-size-of " + Quoted(item) +
+                        " is not L=K; expected a label id, '=' and a size in voxels, such as 7=500");
+      }
+      const std::string id = LabelId("--max-size-of", Trim(item.substr(0, equals)));
+      if (!sized.insert(id).second)
+      {
+        throw ToolError("--max-size-of gives label " + id + " more than one K; expected one K per label");
+      }
+      settings.LabelMaximumSizes.emplace_back(id, ParseCount("--max-size-of", Trim(item.substr(equals + 1))));
+    }
+  }
+  if (arguments.Has("--keep-largest"))
+  {
+    settings.KeepLargest = ParseCount("--keep-largest", arguments.Value("--keep-largest"));
+  }
+}
+
+void
+RefuseLabelOptions(const ParsedCommandLine & arguments)
+{
+  for (const char * flag : LabelOnlyOptions)
+  {
+    if (arguments.Has(flag))
+    {
+      throw ToolError(std::string(flag) + " applies to label maps only; expected --labels with it, or no " + flag);
+    }
+  }
+}
+
+FilterReport
+FilterLabelMap(const FilterSettings &  settings,
+               const ScalarImageInfo & info,
+               const std::string &     stagedImage,
+               const std::string &     stagedMask,
+               ProgressReporter &      progress)
+{
+  return DispatchLabelImage(info, [&](auto tag) {
+    return FilterLabels<typename decltype(tag)::ImageType>(settings, info, stagedImage, stagedMask, progress);
+  });
+}
+} // namespace sic

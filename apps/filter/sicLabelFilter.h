@@ -1,0 +1,54 @@
+/*=========================================================================
+ *
+ *  Copyright SmallIsoComponent contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef sicLabelFilter_h
+#define sicLabelFilter_h
+
+#include "sicFilterReport.h"
+
+#include <string>
+
+namespace sic
+{
+class ParsedCommandLine;
+class ProgressReporter;
+
+/** A label id as the command line gives it, a whole number, spelled canonically as the statistics key labels: no
+ * '+', no leading zeros, "0" for "-0". Throws ToolError naming \a flag. */
+std::string
+LabelId(const std::string & flag, const std::string & text);
+
+/** Reads the options of label maps into \a settings; throws ToolError for an option that has no meaning for them. */
+void
+ReadLabelSettings(const ParsedCommandLine & arguments, FilterSettings & settings);
+
+/** Throws ToolError for an option of label maps given without --labels. */
+void
+RefuseLabelOptions(const ParsedCommandLine & arguments);
+
+/** Reads the label map \a info describes, cleans it with SmallIsoComponentLabelImageFilter in memory, and writes the
+ * output to \a stagedImage and, when settings.RemovedMask is set, the mask to \a stagedMask. The label ids of the
+ * settings are checked against the input's pixel type before any voxel is read. */
+FilterReport
+FilterLabelMap(const FilterSettings &  settings,
+               const ScalarImageInfo & info,
+               const std::string &     stagedImage,
+               const std::string &     stagedMask,
+               ProgressReporter &      progress);
+} // namespace sic
+
+#endif
