@@ -30,10 +30,19 @@
 //   reference FILE ISOVALUE K SIDE CONNECTIVITY
 //                              the filter's statistics as JSON, K in voxels,
 //                              SIDE above|below|both, CONNECTIVITY face|full
+//   make-labels FILE TYPE DIMENSION SEED
+//                              a random label map (blocks of five labels, one of them
+//                              TYPE's own, with noise); TYPE as for make, or uint64, int64
+//   label-reference FILE OUTPUT MASK SELECT BACKGROUND K KEEP CONNECTIVITY SIZES
+//                              SmallIsoComponentLabelImageFilter run directly: writes its output
+//                              and mask, prints its statistics as JSON; SELECT all|islands|
+//                              holes|L,..., KEEP the N of keep-largest, SIZES L=K,... or -
 
 #include "itkSmallIsoComponentImageFilter.h"
+#include "itkSmallIsoComponentLabelImageFilter.h"
 #include "sicImageFiles.h"
 #include "sicScalarImageDispatch.h"
+#include "sicSplitMix64.h"
 
 #include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
@@ -41,8 +50,12 @@
 #include "itkRGBPixel.h"
 
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
+#include <sstream>
+#include <vector>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -199,6 +212,136 @@ Reference(const std::string & path, double isoValue, itk::SizeValueType k, const
   return 0;
 }
 
+/** A label of the probe's command line. */
+template <typename TLabel>
+TLabel
+LabelNamed(const std::string & text)
+{
+  if constexpr (std::is_floating_point_v<TLabel>)
+  {
+    return static_cast<TLabel>(std::stod(text));
+  }
+  else if constexpr (std::is_signed_v<TLabel>)
+  {
+    return static_cast<TLabel>(std::stoll(text));
+  }
+  else
+  {
+    return static_cast<TLabel>(std::stoull(text));
+  }
+}
+
+/** Blocks of 3 voxels along each axis of five labels (0, 1, 2, 5 and one only TLabel holds), then one voxel in six set
+ * to a random label: components of every size, islands and holes. */
+template <typename TImage>
+void
+MakeLabels(const std::string & path, std::uint64_t seed)
+{
+  using LabelType = typename TImage::PixelType;
+  constexpr unsigned int Dimension = TImage::ImageDimension;
+  std::vector<LabelType> labels = { 0, 1, 2, 5 };
+  if constexpr (std::is_floating_point_v<LabelType>)
+  {
+    labels.push_back(-12);
+  }
+  else if constexpr (std::is_signed_v<LabelType>)
+  {
+    labels.push_back(static_cast<LabelType>(sizeof(LabelType) == 1   ? -100
+                                            : sizeof(LabelType) == 2 ? -3000
+                                            : sizeof(LabelType) == 4 ? -70000
+                                                                     : -1099511627776LL));
+  }
+  else
+  {
+    labels.push_back(std::numeric_limits<LabelType>::max());
+  }
+  auto                      image = TImage::New();
+  typename TImage::SizeType size;
+  const unsigned int        sizes[3] = { 23, 19, 13 };
+  for (unsigned int axis = 0; axis < Dimension; ++axis)
+  {
+    size[axis] = Dimension == 2 ? 2 * sizes[axis] : sizes[axis];
+  }
+  image->SetRegions(size);
+  image->Allocate();
+  sic::SplitMix64                    random(seed);
+  std::map<std::uint64_t, LabelType> blocks;
+  for (itk::ImageRegionIteratorWithIndex<TImage> it(image, image->GetLargestPossibleRegion()); !it.IsAtEnd(); ++it)
+  {
+    std::uint64_t block = 0;
+    for (unsigned int axis = 0; axis < Dimension; ++axis)
+    {
+      block = block * 64 + static_cast<std::uint64_t>(it.GetIndex()[axis] / 3);
+    }
+    if (blocks.count(block) == 0)
+    {
+      blocks[block] = labels[random.Next() % labels.size()];
+    }
+    it.Set(random.Next() % 6 == 0 ? labels[random.Next() % labels.size()] : blocks[block]);
+  }
+  sic::WriteImage(image.GetPointer(), path, path, "test image", nullptr);
+}
+
+template <typename TImage>
+int
+LabelReference(char * argv[])
+{
+  using FilterType = itk::SmallIsoComponentLabelImageFilter<TImage>;
+  using LabelType = typename TImage::PixelType;
+  using Selection = itk::SmallIsoComponentLabelEnums::Selection;
+  auto              filter = FilterType::New();
+  const std::string select = argv[5];
+  filter->SetSelection(select == "all"       ? Selection::All
+                       : select == "islands" ? Selection::Islands
+                       : select == "holes"   ? Selection::Holes
+                                             : Selection::Listed);
+  std::vector<LabelType> listed;
+  std::istringstream     items(select);
+  for (std::string item; filter->GetSelection() == Selection::Listed && std::getline(items, item, ',');)
+  {
+    listed.push_back(LabelNamed<LabelType>(item));
+  }
+  filter->SetSelectedLabels(listed);
+  filter->SetBackgroundValue(LabelNamed<LabelType>(argv[6]));
+  filter->SetMaximumComponentSize(std::stoull(argv[7]));
+  filter->SetKeepLargestComponents(std::stoull(argv[8]));
+  filter->SetFullyConnected(std::string(argv[9]) == "full");
+  typename FilterType::LabelSizeMapType sizes;
+  std::istringstream                    pairs(std::string(argv[10]) == "-" ? "" : argv[10]);
+  for (std::string pair; std::getline(pairs, pair, ',');)
+  {
+    sizes[LabelNamed<LabelType>(pair.substr(0, pair.find('=')))] = std::stoull(pair.substr(pair.find('=') + 1));
+  }
+  filter->SetMaximumComponentSizes(sizes);
+  filter->GenerateRemovedMaskOn();
+  filter->SetInput(sic::ReadImage<TImage>(argv[2], "image", nullptr));
+  filter->Update();
+  sic::WriteImage(filter->GetOutput(), argv[3], argv[3], "output", nullptr);
+  sic::WriteImage(filter->GetRemovedMask(), argv[4], argv[4], "mask", nullptr);
+
+  Json labels = Json::object();
+  for (const auto & [label, statistics] : filter->GetLabelStatistics())
+  {
+    Json histogram = Json::array();
+    for (const auto & [size, count] : statistics.Histogram)
+    {
+      histogram.push_back({ static_cast<std::uint64_t>(size), static_cast<std::uint64_t>(count) });
+    }
+    std::ostringstream key;
+    key << std::fixed << std::setprecision(0) << static_cast<long double>(label) + 0.0L;
+    labels[key.str()] = { { "components", static_cast<std::uint64_t>(statistics.Components) },
+                          { "removed_components", static_cast<std::uint64_t>(statistics.RemovedComponents) },
+                          { "removed_voxels", static_cast<std::uint64_t>(statistics.RemovedVoxels) },
+                          { "gained_voxels", static_cast<std::uint64_t>(statistics.GainedVoxels) },
+                          { "size_histogram", std::move(histogram) } };
+  }
+  Print({ { "labels", std::move(labels) },
+          { "modified_voxels", static_cast<std::uint64_t>(filter->GetNumberOfModifiedVoxels()) },
+          { "unrepairable_voxels", static_cast<std::uint64_t>(filter->GetNumberOfUnrepairableVoxels()) },
+          { "effective_max_size", static_cast<std::uint64_t>(filter->GetEffectiveMaximumComponentSize()) } });
+  return 0;
+}
+
 itk::IOComponentEnum
 ComponentTypeNamed(const std::string & name)
 {
@@ -209,7 +352,9 @@ ComponentTypeNamed(const std::string & name)
                            itk::IOComponentEnum::UINT,
                            itk::IOComponentEnum::INT,
                            itk::IOComponentEnum::FLOAT,
-                           itk::IOComponentEnum::DOUBLE })
+                           itk::IOComponentEnum::DOUBLE,
+                           itk::IOComponentEnum::ULONGLONG,
+                           itk::IOComponentEnum::LONGLONG })
   {
     if (sic::PixelTypeName(type) == name)
     {
@@ -233,7 +378,7 @@ Probe(int argc, char * argv[])
     sic::ScalarImageInfo info;
     info.ComponentType = ComponentTypeNamed(argv[3]);
     info.Dimension = static_cast<unsigned int>(std::stoul(argv[4]));
-    sic::DispatchScalarImage(info, [&](auto tag) {
+    sic::DispatchLabelImage(info, [&](auto tag) {
       MakeImage<typename decltype(tag)::ImageType>(argv[2]);
       return 0;
     });
@@ -241,7 +386,7 @@ Probe(int argc, char * argv[])
   }
   if (command == "info" && argc == 3)
   {
-    const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(argv[2], "image");
+    const sic::ScalarImageInfo info = sic::ReadLabelImageInfo(argv[2], "image");
     Print({ { "pixel_type", sic::PixelTypeName(info.ComponentType) },
             { "dimension", info.Dimension },
             { "size", info.Size },
@@ -251,12 +396,12 @@ Probe(int argc, char * argv[])
   }
   if (command == "count-nonzero" && argc == 3)
   {
-    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"),
-                                    [&](auto tag) { return CountNonzero<typename decltype(tag)::ImageType>(argv[2]); });
+    return sic::DispatchLabelImage(sic::ReadLabelImageInfo(argv[2], "image"),
+                                   [&](auto tag) { return CountNonzero<typename decltype(tag)::ImageType>(argv[2]); });
   }
   if (command == "equal" && argc == 4)
   {
-    return sic::DispatchScalarImage(sic::ReadScalarImageInfo(argv[2], "image"), [&](auto tag) {
+    return sic::DispatchLabelImage(sic::ReadLabelImageInfo(argv[2], "image"), [&](auto tag) {
       return Equal<typename decltype(tag)::ImageType>(argv[2], argv[3]);
     });
   }
@@ -278,6 +423,21 @@ Probe(int argc, char * argv[])
       return Reference<typename decltype(tag)::ImageType>(
         file, std::stod(argv[3]), std::stoul(argv[4]), argv[5], std::string(argv[6]) == "full");
     });
+  }
+  if (command == "make-labels" && argc == 6)
+  {
+    sic::ScalarImageInfo info;
+    info.ComponentType = ComponentTypeNamed(argv[3]);
+    info.Dimension = static_cast<unsigned int>(std::stoul(argv[4]));
+    return sic::DispatchLabelImage(info, [&](auto tag) {
+      MakeLabels<typename decltype(tag)::ImageType>(argv[2], std::stoull(argv[5]));
+      return 0;
+    });
+  }
+  if (command == "label-reference" && argc == 11)
+  {
+    return sic::DispatchLabelImage(sic::ReadLabelImageInfo(argv[2], "image"),
+                                   [&](auto tag) { return LabelReference<typename decltype(tag)::ImageType>(argv); });
   }
   std::cerr << "usage: see the comment at the top of SmallIsoComponentCLITestProbe.cxx" << std::endl;
   return 2;

@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 # Copyright SmallIsoComponent contributors. Licensed under the Apache License, Version 2.0.
-"""SmallIsoComponentFilter as 3D Slicer sees it: its --xml read by Slicer's own parser
-(SlicerExecutionModel's ModuleDescriptionParser, through SmallIsoComponentSlicerParserProbe), every
-parameter checked against the description the tool wrote, then the tool run with the command line
-Slicer builds from the parsed description.
+"""SmallIsoComponentFilter and SmallIsoComponentLabelFilter as 3D Slicer sees them: their --xml read by
+Slicer's own parser (SlicerExecutionModel's ModuleDescriptionParser, through
+SmallIsoComponentSlicerParserProbe), every parameter checked against the description the tool wrote,
+then the tool run with the command line Slicer builds from the parsed description.
 
 Environment:
   SIC_FILTER         the SmallIsoComponentFilter executable
+  SIC_LABEL_FILTER   the SmallIsoComponentLabelFilter executable
   SIC_PHANTOM        the SmallIsoComponentPhantom executable
   SIC_PROBE          the SmallIsoComponentCLITestProbe executable (counts mask voxels)
   SIC_SLICER_PROBE   the parser probe; empty when no SlicerExecutionModel was found (then every
@@ -25,6 +26,7 @@ import xml.dom.minidom
 from sic_tool_test import ToolTestCase, run
 
 FILTER = os.environ.get("SIC_FILTER", "")
+LABEL_FILTER = os.environ.get("SIC_LABEL_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 SLICER_PROBE = os.environ.get("SIC_SLICER_PROBE", "")
@@ -51,7 +53,11 @@ class SmallIsoComponentSlicerTest(ToolTestCase):
             print("skipped: no SlicerExecutionModel to build Slicer's parser from (" + SLICER_SOURCE + ")")
             raise unittest.SkipTest("no SlicerExecutionModel")
         super().setUp()
-        self.xml = self.check(run(FILTER, "--xml")).stdout
+        self.describe(FILTER)
+
+    def describe(self, tool):
+        """Reads the tool's --xml, as written and as Slicer's parser reads it."""
+        self.xml = self.check(run(tool, "--xml")).stdout
         self.xml_path = self.path("description.xml")
         with open(self.xml_path, "w", encoding="utf-8") as file:
             file.write(self.xml)
@@ -82,6 +88,18 @@ class SmallIsoComponentSlicerTest(ToolTestCase):
         return document, parameters
 
     def test_parser_reads_every_parameter_as_written(self):
+        self.assertParsedAsWritten()
+
+    def test_parser_reads_the_label_tool_as_written(self):
+        self.describe(LABEL_FILTER)
+        self.assertParsedAsWritten()
+        images = {p["name"]: p for p in self.parsed["parameters"] if p["tag"] == "image"}
+        self.assertEqual(sorted(images), ["inputVolume", "outputVolume", "removedMask"])
+        document = xml.dom.minidom.parseString(self.xml)
+        for element in document.getElementsByTagName("image"):
+            self.assertEqual(element.getAttribute("type"), "label")
+
+    def assertParsedAsWritten(self):
         document, written = self.written()
         root = document.documentElement
         self.assertEqual(self.parsed["title"], text(root, "title"))
@@ -137,6 +155,26 @@ class SmallIsoComponentSlicerTest(ToolTestCase):
         for name in ("surface", "surfaceBefore", "render"):
             if name in values:
                 self.assertTrue(os.path.exists(values[name]), name)
+
+    def test_the_command_line_slicer_builds_runs_the_label_tool(self):
+        self.describe(LABEL_FILTER)
+        labels = self.path("labels.nrrd")
+        self.check(run(PROBE, "make-labels", labels, "int16", 3, 5))
+        values = {"inputVolume": labels, "outputVolume": self.path("out.nrrd"), "removedMask": self.path("mask.nrrd"),
+                  "statsFile": self.path("stats.json"), "maxSize": "4", "maxSizePerLabel": "2=1",
+                  "keepLargest": "1"}
+        arguments = self.slicer_command_line(values)
+        result = self.check(run(LABEL_FILTER, *arguments), " ".join(arguments))
+        self.assertIn("<filter-progress>", result.stdout)
+        direct = self.path("direct.nrrd")
+        self.check(run(FILTER, labels, direct, "--labels", "--max-size", "4", "--max-size-of", "2=1",
+                       "--keep-largest", "1", "--quiet"))
+        self.assertEqual(digest(self.path("out.nrrd")), digest(direct))
+        with open(self.path("stats.json"), encoding="utf-8") as file:
+            statistics = json.load(file)["statistics"]
+        removed = sum(label["removed_voxels"] for label in statistics["labels"].values())
+        self.assertGreater(removed, 0)
+        self.assertEqual(int(self.check(run(PROBE, "count-nonzero", self.path("mask.nrrd"))).stdout), removed)
 
 
 if __name__ == "__main__":
