@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkSmallIsoComponentRunLabeling.h"
+#include "itkSmallIsoComponentTouchingRuns.h"
 #include "itkMacro.h"
 #include "itkNumericTraits.h"
 #include "itkSmallIsoComponentBitCount.h"
@@ -177,64 +178,21 @@ RunLabeling::Union(RunIndexType a, RunIndexType b)
 SMALLISO_ALWAYS_INLINE void
 RunLabeling::MergeLines(SizeValueType lineA, SizeValueType lineB)
 {
-  auto       a = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
-  const auto aLast = static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1);
-  auto       b = static_cast<RunIndexType>(m_LineRunBegin[lineB]);
-  const auto bLast = static_cast<RunIndexType>(m_LineRunBegin[lineB + 1] - 1);
-  bool       sameSide = m_LineFirstAbove[lineA] == m_LineFirstAbove[lineB];
-  if (a == aLast && b == bLast)
-  {
-    // Two lines that are one run each (common: empty background lines).
-    if (sameSide)
-    {
-      this->Union(a, b);
-    }
-    return;
-  }
-  // The runs of each line partition [0, length), so one merge visits every overlapping
-  // pair once: same-side pairs that overlap touch. Sides alternate along a line, so the
-  // pair changes side exactly when one of its runs advances. With full connectivity runs
-  // also touch diagonally where both end at the same x: then the run after each one meets
-  // the other, and those pairs are on the same side exactly when the pair itself is not.
-  const CoordinateType * const start = m_RunStart.data();
-  const auto                   length = static_cast<CoordinateType>(m_Size[0]);
-  CoordinateType               endA = a < aLast ? start[a + 1] : length;
-  CoordinateType               endB = b < bLast ? start[b + 1] : length;
-  while (true)
-  {
-    if (sameSide)
-    {
-      this->Union(a, b);
-    }
-    if (endA < endB)
-    {
-      ++a;
-      sameSide = !sameSide;
-      endA = a < aLast ? start[a + 1] : length;
-    }
-    else if (endB < endA)
-    {
-      ++b;
-      sameSide = !sameSide;
-      endB = b < bLast ? start[b + 1] : length;
-    }
-    else
-    {
-      if (a == aLast || b == bLast)
-      {
-        return;
-      }
-      if (m_FullyConnected && !sameSide)
-      {
-        this->Union(a, b + 1);
-        this->Union(a + 1, b);
-      }
-      ++a;
-      ++b;
-      endA = a < aLast ? start[a + 1] : length;
-      endB = b < bLast ? start[b + 1] : length;
-    }
-  }
+  const auto aFirst = static_cast<RunIndexType>(m_LineRunBegin[lineA]);
+  const auto bFirst = static_cast<RunIndexType>(m_LineRunBegin[lineB]);
+  // Sides alternate along a line: two runs are on one side when the parities of their places in
+  // their lines differ exactly as the sides of the lines' first runs do.
+  const RunIndexType differ = (aFirst ^ bFirst ^ (m_LineFirstAbove[lineA] != m_LineFirstAbove[lineB])) & 1;
+  JoinTouchingRuns(
+    m_RunStart.data(),
+    aFirst,
+    static_cast<RunIndexType>(m_LineRunBegin[lineA + 1] - 1),
+    bFirst,
+    static_cast<RunIndexType>(m_LineRunBegin[lineB + 1] - 1),
+    static_cast<CoordinateType>(m_Size[0]),
+    m_FullyConnected,
+    [differ](RunIndexType a, RunIndexType b) { return ((a ^ b) & 1) == differ; },
+    [this](RunIndexType a, RunIndexType b) { this->Union(a, b); });
 }
 
 namespace
