@@ -58,8 +58,8 @@ typename TImage::Pointer
 ImageOf(const py::array_t<typename TImage::PixelType> & array, const std::vector<double> & spacing)
 {
   using PixelType = typename TImage::PixelType;
-  constexpr unsigned int dimension = TImage::ImageDimension;
-  const bool             fortran = (array.flags() & py::array::c_style) == 0;
+  constexpr unsigned int       dimension = TImage::ImageDimension;
+  const bool                   fortran = (array.flags() & py::array::c_style) == 0;
   typename TImage::SizeType    size;
   typename TImage::SpacingType itkSpacing;
   for (unsigned int axis = 0; axis < dimension; ++axis)

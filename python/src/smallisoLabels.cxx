@@ -70,8 +70,8 @@ DefineLabelFunctions(py::module_ & module)
        bool                  inPlace,
        bool                  withMask,
        unsigned int          threads) {
-      const LabelParameters parameters{ maxSize,   maxVolume,  std::move(spacing), sizeLabels,  std::move(sizes),
-                                        selection, selected,   background,         keepLargest, fullyConnected,
+      const LabelParameters parameters{ maxSize,   maxVolume, std::move(spacing), sizeLabels,  std::move(sizes),
+                                        selection, selected,  background,         keepLargest, fullyConnected,
                                         threads };
       return ForLabelTypeOf(labels, [&](auto label) {
         using LabelType = decltype(label);

@@ -145,8 +145,8 @@ FilterLabelImage(py::array_t<TLabel> & labels, const LabelParameters & parameter
   }
   filter->SetMaximumComponentSizes(sizes);
   const std::string & selection = parameters.Selection;
-  filter->SetSelection(selection == "islands" ? SelectionEnum::Islands
-                       : selection == "holes" ? SelectionEnum::Holes
+  filter->SetSelection(selection == "islands"  ? SelectionEnum::Islands
+                       : selection == "holes"  ? SelectionEnum::Holes
                        : selection == "listed" ? SelectionEnum::Listed
                                                : SelectionEnum::All);
   filter->SetSelectedLabels(LabelsOf<TLabel>(parameters.Selected));
@@ -210,8 +210,8 @@ FilterLabels(py::array_t<TLabel> labels, const LabelParameters & parameters, boo
 } // namespace smalliso
 
 /** Compiles the label filter for label type T. */
-#define SMALLISO_INSTANTIATE_LABELS(T) \
-  template pybind11::tuple smalliso::FilterLabels<T>(   \
+#define SMALLISO_INSTANTIATE_LABELS(T)                \
+  template pybind11::tuple smalliso::FilterLabels<T>( \
     pybind11::array_t<T>, const smalliso::LabelParameters &, bool, bool);
 
 #endif
