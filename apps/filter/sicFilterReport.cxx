@@ -60,6 +60,14 @@ LabelsJson(const FilterReport & report)
                    { "removed_voxels", label.RemovedVoxels },
                    { "gained_voxels", label.GainedVoxels },
                    { "size_histogram", HistogramJson(label.Histogram) } };
+    for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &label.SurfacePiecesBefore),
+                                        std::make_pair("surface_components_after", &label.SurfacePiecesAfter) })
+    {
+      if (*pieces)
+      {
+        labels[id][key] = **pieces;
+      }
+    }
   }
   return labels;
 }
@@ -141,7 +149,7 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
   text << report.ModifiedVoxels << " voxels modified, " << report.UnrepairableVoxels << " unrepairable. ";
   if (report.SurfacePiecesBefore || report.SurfacePiecesAfter)
   {
-    text << "Isosurface pieces:";
+    text << (settings.Labels ? "Label surface pieces:" : "Isosurface pieces:");
     if (report.SurfacePiecesBefore)
     {
       text << " " << *report.SurfacePiecesBefore << " before";
@@ -155,6 +163,22 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
       text << " (" << *report.RemovedSurfacePieces << " removed)";
     }
     text << ". ";
+  }
+  if (settings.Labels && (report.SurfacePiecesBefore || report.SurfacePiecesAfter))
+  {
+    text << "Surface pieces per label (before -> after):";
+    const auto count = [](const std::optional<std::uint64_t> & pieces) {
+      return pieces ? std::to_string(*pieces) : std::string("-");
+    };
+    for (const auto & [id, label] : report.Labels)
+    {
+      if (label.SurfacePiecesBefore || label.SurfacePiecesAfter)
+      {
+        text << " " << id << ": " << count(label.SurfacePiecesBefore) << " -> " << count(label.SurfacePiecesAfter)
+             << ";";
+      }
+    }
+    text << " ";
   }
   text << std::fixed << std::setprecision(3) << "Filter " << report.FilterSeconds << " s, total " << report.TotalSeconds
        << " s, " << report.Threads << (report.Threads == 1 ? " thread (" : " threads (") << report.WorkUnits

@@ -94,6 +94,19 @@ struct LabelReport : SideReport
 {
   /** Removed voxels of other labels that took this one. */
   std::uint64_t GainedVoxels{ 0 };
+  /** Connected pieces of the label's surface in the input and in the output, when they were extracted. */
+  std::optional<std::uint64_t> SurfacePiecesBefore;
+  std::optional<std::uint64_t> SurfacePiecesAfter;
+};
+
+/** Where each output is written before it is moved into place. */
+struct StagedPaths
+{
+  std::string Image;
+  std::string RemovedMask;
+  std::string Surface;
+  std::string SurfaceBefore;
+  std::string Render;
 };
 
 /** What one run of the filter found and did. */
@@ -111,8 +124,8 @@ struct FilterReport
   std::uint64_t                                    ModifiedVoxels{ 0 };
   std::uint64_t                                    UnrepairableVoxels{ 0 };
   std::uint64_t                                    PeakExtraBytes{ 0 };
-  /** Connected pieces of the isosurface at the isovalue, when it was extracted: of the input,
-   * of the output, and of the triangles filtering took away. */
+  /** Connected pieces of the isosurface at the isovalue (of a label map: of all its labels' surfaces), when it was
+   * extracted: of the input, of the output, and of the triangles filtering took away. */
   std::optional<std::uint64_t> SurfacePiecesBefore;
   std::optional<std::uint64_t> SurfacePiecesAfter;
   std::optional<std::uint64_t> RemovedSurfacePieces;

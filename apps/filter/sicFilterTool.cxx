@@ -31,6 +31,7 @@
 #include "sicStagedOutputs.h"
 #include "sicStreamedFilter.h"
 #include "sicStreamedImageFiles.h"
+#include "sicStrings.h"
 #include "sicToolError.h"
 #include "sicToolMain.h"
 
@@ -50,6 +51,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 
 namespace
 {
@@ -125,6 +127,59 @@ LabelOptions(sic::FilterTool kind)
   return { labels, select, background, maxSizeOf, keepLargest };
 }
 
+#ifdef SIC_HAVE_VTK
+/** --surface, --surface-before and --render: isosurfaces at S, or the surfaces of the labels of a label map. */
+std::vector<Option>
+SurfaceOptions(sic::FilterTool kind)
+{
+  const bool labelTool = kind == sic::FilterTool::Labels;
+  const auto geometry = [&](const char * name, const char * label) {
+    SlicerParameter slicer = Parameter("geometry", name, label, "Surfaces");
+    slicer.Channel = "output";
+    slicer.FileExtensions = labelTool ? ".vtp" : ".vtp,.stl,.ply,.obj";
+    return slicer;
+  };
+  const std::string labels =
+    "a surface for each label but the background, extracted with VTK's discrete Flying Edges "
+    "(vtkDiscreteFlyingEdges3D), as .vtp with the cell-data arrays 'label' (each triangle's label id) and 'colour' "
+    "(its label's RGB colour in the pictures)";
+  const std::string physical = " Points are in physical LPS coordinates (millimetres), honouring the image's "
+                               "spacing, origin and direction, as ITK maps voxel indices and as 3D Slicer reads "
+                               "models. 3-D images only.";
+  Option            surface{ "--surface",
+                  "FILE",
+                  labelTool ? "Also write the surfaces of the filtered label map: " + labels + "." + physical
+                                       : "Also write the isosurface of the filtered image at S, extracted with VTK's Flying "
+                                         "Edges (vtkFlyingEdges3D, the same triangles as Marching Cubes), as " +
+                                sic::SupportedSurfaceExtensions() + " by FILE's extension; with --labels, " + labels +
+                                "." + physical,
+                  "",
+                  geometry("surface", labelTool ? "Label surfaces (filtered)" : "Isosurface (filtered)") };
+  Option            surfaceBefore{ "--surface-before",
+                        "FILE",
+                        labelTool ? "Also write the surfaces of the input label map, in the same way as --surface."
+                                             : "Also write the isosurface of the input image at S (with --labels, the input's "
+                                               "label surfaces), in the same way as --surface.",
+                        "",
+                        geometry("surfaceBefore", labelTool ? "Label surfaces (input)" : "Isosurface (input)") };
+  Option            render{ "--render",
+                 "FILE.png",
+                 std::string("Also render, off screen, a PNG of four panels with one camera: the input's ") +
+                   (labelTool ? "label surfaces" : "isosurface") +
+                   ", the filtered one, only the removed pieces (the input's surface pieces that filtering took "
+                              "away whole; " +
+                   (labelTool ? "each label in its own colour, the removed pieces in their old label's colour"
+                                         : "specks red, bubbles blue; with --labels, each label in its own colour") +
+                   ") and the filtered surface (translucent) with the removed pieces, each labelled with its number "
+                              "of pieces. Without an X display the tool starts a virtual one (Xvfb). 3-D images only.",
+                 "",
+                 Parameter("file", "render", "Rendering (PNG)", "Surfaces") };
+  render.Slicer.Channel = "output";
+  render.Slicer.FileExtensions = ".png";
+  return { surface, surfaceBefore, render };
+}
+#endif
+
 sic::ToolDescription
 DescribeTool(sic::FilterTool kind)
 {
@@ -134,6 +189,9 @@ DescribeTool(sic::FilterTool kind)
   tool.Usage = labelTool ? "SmallIsoComponentLabelFilter INPUT OUTPUT [--max-size K | --max-volume V] "
                            "[--select all|islands|holes|L,...] [--background L] [--max-size-of L=K,...] "
                            "[--keep-largest N] [--fully-connected] [--removed-mask FILE] [--stats FILE.json] "
+#ifdef SIC_HAVE_VTK
+                           "[--surface FILE.vtp] [--surface-before FILE.vtp] [--render FILE.png] "
+#endif
                            "[--no-compression] [--threads N] [--quiet] [--progress-xml] [--xml] [--help]"
                          : "SmallIsoComponentFilter INPUT OUTPUT (--isovalue S [--side above|below|both] | --labels "
                            "[--select all|islands|holes|L,...] [--background L] [--max-size-of L=K,...] "
@@ -242,40 +300,6 @@ DescribeTool(sic::FilterTool kind)
                 Parameter("file", "statsFile", "Statistics (JSON)", "Input/Output") };
   stats.Slicer.Channel = "output";
   stats.Slicer.FileExtensions = ".json";
-#ifdef SIC_HAVE_VTK
-  const auto geometry = [&](const char * name, const char * label) {
-    SlicerParameter slicer = Parameter("geometry", name, label, "Surfaces");
-    slicer.Channel = "output";
-    slicer.FileExtensions = ".vtp,.stl,.ply,.obj";
-    return slicer;
-  };
-  Option surface{ "--surface",
-                  "FILE",
-                  "Also write the isosurface of the filtered image at S, extracted with VTK's Flying Edges "
-                  "(vtkFlyingEdges3D, the same triangles as Marching Cubes), as " +
-                    sic::SupportedSurfaceExtensions() +
-                    " by FILE's extension. Points are in physical LPS coordinates (millimetres), honouring the "
-                    "image's spacing, origin and direction, as ITK maps voxel indices and as 3D Slicer reads "
-                    "models. 3-D images only.",
-                  "",
-                  geometry("surface", "Isosurface (filtered)") };
-  Option surfaceBefore{ "--surface-before",
-                        "FILE",
-                        "Also write the isosurface of the input image at S, in the same way as --surface.",
-                        "",
-                        geometry("surfaceBefore", "Isosurface (input)") };
-  Option render{ "--render",
-                 "FILE.png",
-                 "Also render, off screen, a PNG of four panels with one camera: the input's isosurface, the "
-                 "filtered one, only the removed pieces (the input's surface pieces that filtering took away "
-                 "whole; specks red, bubbles blue) and the filtered surface (translucent) with the removed pieces, "
-                 "each labelled with its number of pieces. Without an X display the tool starts a virtual one (Xvfb). "
-                 "3-D images only.",
-                 "",
-                 Parameter("file", "render", "Rendering (PNG)", "Surfaces") };
-  render.Slicer.Channel = "output";
-  render.Slicer.FileExtensions = ".png";
-#endif
   Option memoryLimit{ "--memory-limit",
                       "BYTES",
                       "Filter the image plane by plane along its last axis, holding at most about BYTES of memory "
@@ -319,28 +343,24 @@ DescribeTool(sic::FilterTool kind)
   {
     tool.Options = { maxSize, maxVolume };
     tool.Options.insert(tool.Options.end(), labelOptions.begin() + 1, labelOptions.end());
-    tool.Options.insert(tool.Options.end(),
-                        { fullyConnected, removedMask, stats, noCompression, threads, quiet, progressXml });
+    tool.Options.insert(tool.Options.end(), { fullyConnected, removedMask, stats });
+#ifdef SIC_HAVE_VTK
+    const std::vector<Option> surfaces = SurfaceOptions(kind);
+    tool.Options.insert(tool.Options.end(), surfaces.begin(), surfaces.end());
+#endif
+    tool.Options.insert(tool.Options.end(), { noCompression, threads, quiet, progressXml });
     tool.Options.push_back(labelOptions.front());
   }
   else
   {
     tool.Options = { isovalue, maxSize, maxVolume, side };
     tool.Options.insert(tool.Options.end(), labelOptions.begin(), labelOptions.end());
-    tool.Options.insert(tool.Options.end(),
-                        { fullyConnected,
-                          removedMask,
-                          stats,
+    tool.Options.insert(tool.Options.end(), { fullyConnected, removedMask, stats });
 #ifdef SIC_HAVE_VTK
-                          surface,
-                          surfaceBefore,
-                          render,
+    const std::vector<Option> surfaces = SurfaceOptions(kind);
+    tool.Options.insert(tool.Options.end(), surfaces.begin(), surfaces.end());
 #endif
-                          memoryLimit,
-                          noCompression,
-                          threads,
-                          quiet,
-                          progressXml });
+    tool.Options.insert(tool.Options.end(), { memoryLimit, noCompression, threads, quiet, progressXml });
   }
   tool.Options.push_back(
     { "--xml", "", "Print the tool's 3D Slicer Execution Model description (XML) and exit.", "", {} });
@@ -467,15 +487,7 @@ SideStatistics(const TFilter & filter, itk::SmallIsoComponentEnums::Side side)
   return report;
 }
 
-/** Where each output is written before it is moved into place. */
-struct StagedPaths
-{
-  std::string Image;
-  std::string RemovedMask;
-  std::string Surface;
-  std::string SurfaceBefore;
-  std::string Render;
-};
+using sic::StagedPaths;
 
 #ifdef SIC_HAVE_VTK
 /** The isosurfaces of a run of the filter, kept in index coordinates until the removed
@@ -640,6 +652,22 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
   return report;
 }
+
+#ifdef SIC_HAVE_VTK
+/** Checks a surface output's format. Label surfaces carry each triangle's label, which only .vtp of the surface
+ * formats keeps. */
+void
+CheckSurfaceOutput(const std::string & path, const std::string & what, bool labels)
+{
+  sic::CheckSurfaceFileFormat(path, what);
+  const std::string extension = sic::Lowercase(std::filesystem::path(path).extension().string());
+  if (labels && extension != ".vtp")
+  {
+    throw sic::ToolError("cannot write the " + what + " '" + path + "' as " + extension +
+                         ": only .vtp keeps each triangle's label; expected a .vtp file");
+  }
+}
+#endif
 
 /** The memory limit to stream under: --memory-limit, or three quarters of the available memory when
  * the input would not fit in it and every file streams; 0 to filter in memory. */
@@ -848,15 +876,17 @@ Run(const std::string & toolName, const sic::FilterSettings & settings)
     throw sic::ToolError("--surface, --surface-before and --render need a 3-D image and '" + settings.Input + "' is " +
                          std::to_string(info.Dimension) + "-D; expected a volume");
   }
-  if (!settings.Surface.empty())
+  for (const auto & [path, stagedPath, what] :
+       { std::make_tuple(&settings.Surface, &staged.Surface, settings.Labels ? "label surfaces" : "isosurface"),
+         std::make_tuple(&settings.SurfaceBefore,
+                         &staged.SurfaceBefore,
+                         settings.Labels ? "input's label surfaces" : "input's isosurface") })
   {
-    sic::CheckSurfaceFileFormat(settings.Surface, "isosurface");
-    staged.Surface = outputs.Stage(settings.Surface, "isosurface");
-  }
-  if (!settings.SurfaceBefore.empty())
-  {
-    sic::CheckSurfaceFileFormat(settings.SurfaceBefore, "input's isosurface");
-    staged.SurfaceBefore = outputs.Stage(settings.SurfaceBefore, "input's isosurface");
+    if (!path->empty())
+    {
+      CheckSurfaceOutput(*path, what, settings.Labels);
+      *stagedPath = outputs.Stage(*path, what);
+    }
   }
   if (!settings.Render.empty())
   {
@@ -886,7 +916,7 @@ Run(const std::string & toolName, const sic::FilterSettings & settings)
   const std::uint64_t limit = settings.Labels ? 0 : StreamingLimit(settings, info);
   if (settings.Labels)
   {
-    report = sic::FilterLabelMap(settings, info, staged.Image, staged.RemovedMask, progress);
+    report = sic::FilterLabelMap(settings, info, staged, progress);
   }
   else if (limit > 0)
   {

@@ -23,6 +23,10 @@
 #include "sicStrings.h"
 #include "sicToolError.h"
 
+#ifdef SIC_HAVE_VTK
+#  include "sicLabelSurfaces.h"
+#endif
+
 #include "itkMultiThreaderBase.h"
 #include "itkSmallIsoComponentLabelImageFilter.h"
 
@@ -31,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <set>
 #include <type_traits>
 
@@ -45,9 +50,6 @@ const std::pair<const char *, const char *> ScalarOnlyOptions[] = {
   { "--memory-limit",
     "cannot be used with --labels: label maps are filtered in memory only; expected no "
     "--memory-limit" },
-  { "--surface", "needs an isovalue and cannot be used with --labels; expected no --surface" },
-  { "--surface-before", "needs an isovalue and cannot be used with --labels; expected no --surface-before" },
-  { "--render", "needs an isovalue and cannot be used with --labels; expected no --render" },
 };
 
 const char * const LabelOnlyOptions[] = { "--select", "--background", "--max-size-of", "--keep-largest" };
@@ -209,25 +211,14 @@ ReportLabels(const TFilter & filter, FilterReport & report)
   report.UnrepairableVoxels = filter.GetNumberOfUnrepairableVoxels();
 }
 
-template <typename TImage>
-FilterReport
-FilterLabels(const FilterSettings &  settings,
-             const ScalarImageInfo & info,
-             const std::string &     stagedImage,
-             const std::string &     stagedMask,
-             ProgressReporter &      progress)
+/** Runs \a filter, turning its refusal of a floating-point map with a fractional sample into a ToolError. */
+template <typename TFilter>
+void
+UpdateLabelFilter(TFilter & filter, const FilterSettings & settings)
 {
-  auto filter = itk::SmallIsoComponentLabelImageFilter<TImage>::New();
-  SetUpLabelFilter(*filter, settings, info.ComponentType);
-  progress.Stage("reading " + settings.Input, 0.0, 0.1);
-  filter->SetInput(ReadImage<TImage>(settings.Input, "input", progress.Observer()));
-  filter->AddObserver(itk::ProgressEvent(), progress.Observer());
-
-  progress.Stage("removing small components", 0.1, 0.9);
-  const auto start = std::chrono::steady_clock::now();
   try
   {
-    filter->Update();
+    filter.Update();
   }
   catch (const itk::MemoryAllocationError &)
   {
@@ -240,29 +231,105 @@ FilterLabels(const FilterSettings &  settings,
   catch (const itk::ExceptionObject & error)
   {
     // Set up as it is, the filter refuses only a floating-point map with a sample that is not a whole number.
-    if (!std::is_floating_point_v<typename TImage::PixelType>)
+    if (!std::is_floating_point_v<typename TFilter::LabelType>)
     {
       throw;
     }
     throw ToolError("cannot filter input " + Quoted(settings.Input) +
                     " as a label map: " + ItkErrorText(error.GetDescription()));
   }
+}
+
+#ifdef SIC_HAVE_VTK
+/** Each label's surface pieces, counted by WriteLabelSurfaces(), in the report's entries of the labels. */
+template <typename TLabel>
+void
+ReportSurfacePieces(const std::vector<TLabel> & labels, const LabelSurfacePieces & pieces, FilterReport & report)
+{
+  std::map<std::string, LabelReport *> entries;
+  for (auto & [id, entry] : report.Labels)
+  {
+    entries[id] = &entry;
+  }
+  for (std::size_t number = 1; number <= labels.size(); ++number)
+  {
+    LabelReport & entry = *entries.at(LabelText(labels[number - 1]));
+    if (!pieces.Before.empty())
+    {
+      entry.SurfacePiecesBefore = pieces.Before[number];
+    }
+    if (!pieces.After.empty())
+    {
+      entry.SurfacePiecesAfter = pieces.After[number];
+    }
+  }
+}
+#endif
+
+template <typename TImage>
+FilterReport
+FilterLabels(const FilterSettings &  settings,
+             const ScalarImageInfo & info,
+             const StagedPaths &     staged,
+             ProgressReporter &      progress)
+{
+  auto filter = itk::SmallIsoComponentLabelImageFilter<TImage>::New();
+  SetUpLabelFilter(*filter, settings, info.ComponentType);
+  progress.Stage("reading " + settings.Input, 0.0, 0.1);
+  filter->SetInput(ReadImage<TImage>(settings.Input, "input", progress.Observer()));
+  filter->AddObserver(itk::ProgressEvent(), progress.Observer());
+  const bool surfaces = !settings.Surface.empty() || !settings.SurfaceBefore.empty() || !settings.Render.empty();
+#ifdef SIC_HAVE_VTK
+  // The labels and the input's surfaces are taken before filtering in place overwrites the input; the removed
+  // pieces are cut from the input's surfaces with the mask.
+  std::vector<typename TImage::PixelType> labels;
+  vtkSmartPointer<vtkPolyData>            before;
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    if (surfaces)
+    {
+      labels = SurfaceLabels(*filter->GetInput(), filter->GetBackgroundValue());
+    }
+    if (!settings.SurfaceBefore.empty() || !settings.Render.empty())
+    {
+      progress.Stage("extracting the input's label surfaces", 0.1, 0.12);
+      before = LabelSurfacesOf(*filter->GetInput(), labels);
+      filter->GenerateRemovedMaskOn();
+    }
+  }
+#endif
+
+  progress.Stage("removing small components", 0.1, surfaces ? 0.85 : 0.9);
+  const auto start = std::chrono::steady_clock::now();
+  UpdateLabelFilter(*filter, settings);
   const auto stop = std::chrono::steady_clock::now();
 
+  FilterReport report;
+  ReportLabels(*filter, report);
+#ifdef SIC_HAVE_VTK
+  if constexpr (TImage::ImageDimension == 3)
+  {
+    if (surfaces)
+    {
+      ReportSurfacePieces(
+        labels, WriteLabelSurfaces(settings, staged, before, labels, *filter, progress, report), report);
+    }
+  }
+#endif
+
   progress.Stage("writing " + settings.Output, 0.9, settings.RemovedMask.empty() ? 1.0 : 0.97);
-  WriteImage(filter->GetOutput(), stagedImage, settings.Output, "output image", progress.Observer(), settings.Compress);
+  WriteImage(
+    filter->GetOutput(), staged.Image, settings.Output, "output image", progress.Observer(), settings.Compress);
   if (!settings.RemovedMask.empty())
   {
     progress.Stage("writing " + settings.RemovedMask, 0.97, 1.0);
     WriteImage(filter->GetRemovedMask(),
-               stagedMask,
+               staged.RemovedMask,
                settings.RemovedMask,
                "removed-voxel mask",
                progress.Observer(),
                settings.Compress);
   }
-  FilterReport report;
-  ReportLabels(*filter, report);
   report.FilterSeconds = std::chrono::duration<double>(stop - start).count();
   return report;
 }
@@ -358,12 +425,10 @@ RefuseLabelOptions(const ParsedCommandLine & arguments)
 FilterReport
 FilterLabelMap(const FilterSettings &  settings,
                const ScalarImageInfo & info,
-               const std::string &     stagedImage,
-               const std::string &     stagedMask,
+               const StagedPaths &     staged,
                ProgressReporter &      progress)
 {
-  return DispatchLabelImage(info, [&](auto tag) {
-    return FilterLabels<typename decltype(tag)::ImageType>(settings, info, stagedImage, stagedMask, progress);
-  });
+  return DispatchLabelImage(
+    info, [&](auto tag) { return FilterLabels<typename decltype(tag)::ImageType>(settings, info, staged, progress); });
 }
 } // namespace sic

@@ -41,13 +41,12 @@ void
 RefuseLabelOptions(const ParsedCommandLine & arguments);
 
 /** Reads the label map \a info describes, cleans it with SmallIsoComponentLabelImageFilter in memory, and writes the
- * output to \a stagedImage and, when settings.RemovedMask is set, the mask to \a stagedMask. The label ids of the
- * settings are checked against the input's pixel type before any voxel is read. */
+ * output, the mask, the labels' surfaces and the picture the settings ask for to their \a staged paths. The label ids
+ * of the settings are checked against the input's pixel type before any voxel is read. */
 FilterReport
 FilterLabelMap(const FilterSettings &  settings,
                const ScalarImageInfo & info,
-               const std::string &     stagedImage,
-               const std::string &     stagedMask,
+               const StagedPaths &     staged,
                ProgressReporter &      progress);
 } // namespace sic
 

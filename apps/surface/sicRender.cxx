@@ -27,6 +27,7 @@
 #include "vtkCellArray.h"
 #include "vtkPNGWriter.h"
 #include "vtkPolyData.h"
+#include "vtkCellData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkPolyDataNormals.h"
 #include "vtkProperty.h"
@@ -63,7 +64,16 @@ SurfaceActor(vtkPolyData * surface, const std::array<double, 3> & colour, double
   normals->ComputeCellNormalsOff();
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
   mapper->SetInputConnection(normals->GetOutputPort());
-  mapper->ScalarVisibilityOff();
+  // A label surface carries each triangle's colour (ColourLabels()); other surfaces take the panel's colour.
+  if (surface->GetCellData()->GetScalars() != nullptr)
+  {
+    mapper->SetScalarModeToUseCellData();
+    mapper->SetColorModeToDirectScalars();
+  }
+  else
+  {
+    mapper->ScalarVisibilityOff();
+  }
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(colour[0], colour[1], colour[2]);

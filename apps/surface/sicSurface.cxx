@@ -25,7 +25,9 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkDiscreteFlyingEdges3D.h"
 #include "vtkFlyingEdges3D.h"
 #include "vtkIdList.h"
 #include "vtkImageData.h"
@@ -37,6 +39,8 @@
 #include "vtkPolyData.h"
 #include "vtkSTLReader.h"
 #include "vtkSTLWriter.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnsignedIntArray.h"
 #include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
 
@@ -49,6 +53,7 @@
 #include <numeric>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 namespace sic
@@ -207,6 +212,129 @@ ExtractIsosurface(const SurfaceGrid & grid, double isoValue)
   return surface;
 }
 
+vtkSmartPointer<vtkPolyData>
+ExtractLabelSurfaces(const SurfaceGrid & ordinals, std::uint32_t labels)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->SetPoints(vtkSmartPointer<vtkPoints>::New());
+  surface->SetPolys(vtkSmartPointer<vtkCellArray>::New());
+  auto numbers = vtkSmartPointer<vtkUnsignedIntArray>::New();
+  numbers->SetName(LabelArrayName);
+  const std::size_t count = ordinals.Size[0] * ordinals.Size[1] * ordinals.Size[2];
+  if (labels > 0 && ordinals.Size[0] >= 2 && ordinals.Size[1] >= 2 && ordinals.Size[2] >= 2)
+  {
+    auto scalars = vtkSmartPointer<vtkUnsignedIntArray>::New();
+    scalars->SetVoidArray(const_cast<void *>(ordinals.Buffer), static_cast<vtkIdType>(count), 1);
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    image->SetDimensions(
+      static_cast<int>(ordinals.Size[0]), static_cast<int>(ordinals.Size[1]), static_cast<int>(ordinals.Size[2]));
+    image->GetPointData()->SetScalars(scalars);
+
+    auto contour = vtkSmartPointer<vtkDiscreteFlyingEdges3D>::New();
+    contour->SetInputData(image);
+    contour->GenerateValues(static_cast<int>(labels), 1.0, static_cast<double>(labels));
+    contour->ComputeNormalsOff();
+    contour->ComputeGradientsOff();
+    // Each point's scalar is the label whose surface it is on: it gives the triangles their labels.
+    contour->ComputeScalarsOn();
+    contour->InterpolateAttributesOff();
+    auto errors = vtkSmartPointer<VtkErrorCollector>::New();
+    contour->AddObserver(vtkCommand::ErrorEvent, errors);
+    contour->Update();
+    if (errors->Raised)
+    {
+      throw std::runtime_error("label surface extraction failed: " + errors->Message);
+    }
+    vtkPolyData * output = contour->GetOutput();
+    if (output->GetPolys() != nullptr && output->GetPoints() != nullptr)
+    {
+      vtkDataArray * pointLabels = output->GetPointData()->GetScalars();
+      auto           cells = vtk::TakeSmartPointer(output->GetPolys()->NewIterator());
+      for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+      {
+        vtkIdType         size = 0;
+        const vtkIdType * ids = nullptr;
+        cells->GetCurrentCell(size, ids);
+        numbers->InsertNextValue(static_cast<std::uint32_t>(pointLabels->GetTuple1(ids[0])));
+      }
+      surface->SetPoints(output->GetPoints());
+      surface->SetPolys(output->GetPolys());
+    }
+  }
+  surface->GetCellData()->AddArray(numbers);
+  return surface;
+}
+
+namespace
+{
+vtkUnsignedIntArray &
+LabelNumbers(vtkPolyData & surface)
+{
+  auto * numbers = vtkUnsignedIntArray::SafeDownCast(surface.GetCellData()->GetArray(LabelArrayName));
+  if (numbers == nullptr || numbers->GetNumberOfTuples() != surface.GetNumberOfPolys())
+  {
+    throw std::logic_error("a label surface lacks its label numbers");
+  }
+  return *numbers;
+}
+} // namespace
+
+std::vector<std::uint64_t>
+CountSurfacePiecesPerLabel(vtkPolyData & surface, std::uint32_t labels)
+{
+  std::vector<std::uint64_t> counts(std::size_t{ labels } + 1, 0);
+  vtkUnsignedIntArray &      numbers = LabelNumbers(surface);
+  PointPieces                pieces(surface);
+  // A piece's label: that of a triangle holding its root (the labels share no points).
+  std::vector<bool> counted(pieces.Size(), false);
+  auto              cells = vtk::TakeSmartPointer(surface.GetPolys()->NewIterator());
+  vtkIdType         triangle = 0;
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++triangle)
+  {
+    vtkIdType         size = 0;
+    const vtkIdType * ids = nullptr;
+    cells->GetCurrentCell(size, ids);
+    const std::size_t root = pieces.Root(ids[0]);
+    if (!counted[root])
+    {
+      counted[root] = true;
+      ++counts.at(numbers.GetValue(triangle));
+    }
+  }
+  return counts;
+}
+
+void
+ColourLabels(vtkPolyData & surface, const std::vector<std::array<unsigned char, 3>> & colours)
+{
+  vtkUnsignedIntArray & numbers = LabelNumbers(surface);
+  auto                  rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  rgb->SetName("colour");
+  rgb->SetNumberOfComponents(3);
+  rgb->SetNumberOfTuples(numbers.GetNumberOfTuples());
+  for (vtkIdType triangle = 0; triangle < numbers.GetNumberOfTuples(); ++triangle)
+  {
+    const auto & colour = colours.at(numbers.GetValue(triangle));
+    rgb->SetTypedTuple(triangle, colour.data());
+  }
+  surface.GetCellData()->SetScalars(rgb);
+}
+
+void
+NameLabels(vtkPolyData & surface, vtkDataArray & ids)
+{
+  vtkUnsignedIntArray &         numbers = LabelNumbers(surface);
+  vtkSmartPointer<vtkDataArray> labels = vtk::TakeSmartPointer(ids.NewInstance());
+  labels->SetName(LabelArrayName);
+  labels->SetNumberOfTuples(numbers.GetNumberOfTuples());
+  for (vtkIdType triangle = 0; triangle < numbers.GetNumberOfTuples(); ++triangle)
+  {
+    labels->SetTuple(triangle, numbers.GetValue(triangle) - 1, &ids);
+  }
+  surface.GetCellData()->RemoveArray(LabelArrayName);
+  surface.GetCellData()->AddArray(labels);
+}
+
 void
 TransformToPhysical(vtkPolyData & surface, const SurfaceGeometry & geometry)
 {
@@ -279,8 +407,10 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
   auto                      specks = vtkSmartPointer<vtkCellArray>::New();
   auto                      bubbles = vtkSmartPointer<vtkCellArray>::New();
   auto                      all = vtkSmartPointer<vtkCellArray>::New();
-  vtkCellArray *            polys = surface.GetPolys();
-  vtkPoints *               points = surface.GetPoints();
+  // The triangles of surface that each of the three keeps, to copy their cell data.
+  std::array<std::vector<vtkIdType>, 3> kept;
+  vtkCellArray *                        polys = surface.GetPolys();
+  vtkPoints *                           points = surface.GetPoints();
   if (polys != nullptr && points != nullptr && size[0] >= 2 && size[1] >= 2 && size[2] >= 2)
   {
     const std::size_t strideY = size[0];
@@ -353,17 +483,24 @@ TrianglesOfChangedCells(vtkPolyData &                      surface,
       }
       (kind[triangle] == 1 ? specks : bubbles)->InsertNextCell(count, ids);
       all->InsertNextCell(count, ids);
+      kept[kind[triangle] - 1].push_back(static_cast<vtkIdType>(triangle));
+      kept[2].push_back(static_cast<vtkIdType>(triangle));
     }
   }
-  const auto make = [&surface](vtkCellArray * triangles) {
+  const auto make = [&surface](vtkCellArray * triangles, const std::vector<vtkIdType> & from) {
     auto result = vtkSmartPointer<vtkPolyData>::New();
     result->SetPoints(surface.GetPoints() != nullptr ? surface.GetPoints() : vtkSmartPointer<vtkPoints>::New().Get());
     result->SetPolys(triangles);
+    result->GetCellData()->CopyAllocate(surface.GetCellData(), static_cast<vtkIdType>(from.size()));
+    for (std::size_t to = 0; to < from.size(); ++to)
+    {
+      result->GetCellData()->CopyData(surface.GetCellData(), from[to], static_cast<vtkIdType>(to));
+    }
     return result;
   };
-  removed.Specks = make(specks);
-  removed.Bubbles = make(bubbles);
-  removed.All = make(all);
+  removed.Specks = make(specks, kept[0]);
+  removed.Bubbles = make(bubbles, kept[1]);
+  removed.All = make(all, kept[2]);
   return removed;
 }
 
@@ -534,19 +671,25 @@ WriteSurface(vtkPolyData &       surface,
   };
   // Some writers (PLY, OBJ) do not notice a failed write, e.g. on a full disk: the surface is read back, and must
   // have every triangle.
-  const auto readBack = [&](auto reader) {
+  const std::string extension = LowerExtension(finalPath);
+  const auto        readBack = [&](auto reader) {
     auto errors = vtkSmartPointer<VtkErrorCollector>::New();
     reader->AddObserver(vtkCommand::ErrorEvent, errors);
     reader->SetFileName(stagedPath.c_str());
     reader->Update();
     vtkPolyData * written = reader->GetOutput();
-    if (errors->Raised || written == nullptr || written->GetNumberOfPolys() != surface.GetNumberOfPolys() ||
+    bool          arrays = written != nullptr;
+    for (int array = 0; arrays && extension == ".vtp" && array < surface.GetCellData()->GetNumberOfArrays(); ++array)
+    {
+      vtkDataArray * read = written->GetCellData()->GetArray(surface.GetCellData()->GetArrayName(array));
+      arrays = read != nullptr && read->GetNumberOfTuples() == surface.GetNumberOfPolys();
+    }
+    if (errors->Raised || !arrays || written->GetNumberOfPolys() != surface.GetNumberOfPolys() ||
         written->GetPolys()->GetNumberOfConnectivityIds() != surface.GetPolys()->GetNumberOfConnectivityIds())
     {
       throw ToolError(failure + ": the file written does not read back as the surface (is the disk full?)");
     }
   };
-  const std::string extension = LowerExtension(finalPath);
   if (extension == ".vtp")
   {
     auto writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();

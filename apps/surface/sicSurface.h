@@ -30,7 +30,9 @@
 #include <cstdint>
 #include <string>
 #include <type_traits>
+#include <vector>
 
+class vtkDataArray;
 class vtkPolyData;
 
 namespace sic
@@ -68,6 +70,10 @@ VtkScalarTypeOf()
     return VTK_UNSIGNED_INT;
   else if constexpr (std::is_same_v<TPixel, std::int32_t>)
     return VTK_INT;
+  else if constexpr (std::is_same_v<TPixel, std::int64_t>)
+    return VTK_TYPE_INT64;
+  else if constexpr (std::is_same_v<TPixel, std::uint64_t>)
+    return VTK_TYPE_UINT64;
   else if constexpr (std::is_same_v<TPixel, float>)
     return VTK_FLOAT;
   else if constexpr (std::is_same_v<TPixel, double>)
@@ -118,6 +124,30 @@ SurfaceGeometryOf(const TImage & image)
 vtkSmartPointer<vtkPolyData>
 ExtractIsosurface(const SurfaceGrid & grid, double isoValue);
 
+/** The name of the cell-data array that gives each triangle of a label surface its label. */
+constexpr const char * LabelArrayName = "label";
+
+/** The surfaces of the labels of \a ordinals, a VTK_UNSIGNED_INT grid numbering the labels 1 to \a labels (0 for
+ * voxels without a surface, the background), by vtkDiscreteFlyingEdges3D: one closed surface per label between its
+ * voxels and all others, in index coordinates. Each label has its own points, so pieces never join two labels. The
+ * cell data array LabelArrayName (vtkUnsignedIntArray) holds each triangle's label number. */
+vtkSmartPointer<vtkPolyData>
+ExtractLabelSurfaces(const SurfaceGrid & ordinals, std::uint32_t labels);
+
+/** The connected pieces of each label of a surface from ExtractLabelSurfaces(), indexed by label number (0 unused). */
+std::vector<std::uint64_t>
+CountSurfacePiecesPerLabel(vtkPolyData & surface, std::uint32_t labels);
+
+/** Gives the triangles of a surface from ExtractLabelSurfaces() the RGB colour of their label number (index 0
+ * unused) as cell scalars, which RenderPanels() then shows. */
+void
+ColourLabels(vtkPolyData & surface, const std::vector<std::array<unsigned char, 3>> & colours);
+
+/** Replaces the label numbers of a surface from ExtractLabelSurfaces() by the label ids \a ids (entry n - 1 for
+ * number n), an array of the label map's own type so that every id is exact. */
+void
+NameLabels(vtkPolyData & surface, vtkDataArray & ids);
+
 /** Moves the points of \a surface from index to physical coordinates. Where the mapping
  * mirrors space (a negative determinant, e.g. a flipped axis), every triangle's vertex order
  * is reversed so that its orientation (and normal) keeps pointing the same way relative to
@@ -136,7 +166,8 @@ CountSurfacePieces(vtkPolyData & surface);
  * the same before and after filtering, so these are exactly the triangles filtering changed.
  * With \a wholePiecesOnly, only the pieces of \a surface all of whose triangles changed are
  * kept: the pieces filtering took away, not the places where a surviving piece changed
- * shape. The three surfaces share \a surface's points. */
+ * shape. The three surfaces share \a surface's points, and take its cell data (a label surface's labels and
+ * colours). */
 struct RemovedTriangles
 {
   vtkSmartPointer<vtkPolyData> Specks;
@@ -159,7 +190,8 @@ void
 CheckSurfaceFileFormat(const std::string & path, const std::string & what);
 
 /** Writes \a surface to \a stagedPath in the format \a finalPath's extension names (the
- * staged path may lack it), then reads the file back: it must hold every triangle, as the
+ * staged path may lack it), then reads the file back: it must hold every triangle (and, in a .vtp file, every
+ * cell-data array with all its values), as the
  * PLY and OBJ writers do not notice a failed write. Throws sic::ToolError, naming
  * \a finalPath, on failure, in one line (VTK's own messages are not shown). */
 void
