@@ -5,7 +5,7 @@ report's surface piece counts), run by CTest one test method at a time. Every te
 skipped, saying why, when the tools were built without VTK.
 
 Environment (set by apps/test/CMakeLists.txt):
-  SIC_FILTER, SIC_PHANTOM, SIC_PROBE, SIC_REPORT  the tools and the CLI test probe
+  SIC_FILTER, SIC_LABEL_FILTER, SIC_PHANTOM, SIC_PROBE, SIC_REPORT  the tools and the CLI test probe
   SIC_HAVE_VTK  1 when the tools were built with VTK
   SIC_SCRATCH   a directory for the tests' files
 """
@@ -22,6 +22,7 @@ import sic_tool_test
 from sic_tool_test import USAGE_ERROR, ToolTestCase
 
 FILTER = os.environ.get("SIC_FILTER", "")
+LABEL_FILTER = os.environ.get("SIC_LABEL_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 REPORT = os.environ.get("SIC_REPORT", "")
@@ -108,6 +109,51 @@ def is_surface(pixel):
     r, g, b = pixel
     return r > 60 and 0.85 * r < g <= r and 0.7 * r < b < 0.93 * r
 
+# A uint8 label map of two boxes, labels 3 and 5, that share a face, on background 0, with single-voxel islands of
+# each label in the background and one voxel of label 5 inside the box of 3. Every island is at least one voxel away
+# from everything else, so each is a piece of its own, as is the cavity the voxel of 5 leaves in the surface of 3;
+# the boxes touch, but each label has its own surface.
+LABEL_SIZE = (24, 20, 20)
+LABEL_BOXES = {3: ((2, 9), (2, 18), (2, 18)), 5: ((9, 22), (9, 18), (9, 18))}
+LABEL_ISLANDS = {3: [(12, 3, 3), (16, 3, 6)], 5: [(18, 3, 3), (20, 5, 12), (12, 14, 4)]}
+SPECK_OF_5_IN_3 = (5, 9, 9)
+
+
+def write_label_map(path):
+    x_size, y_size, z_size = LABEL_SIZE
+    voxels = bytearray(x_size * y_size * z_size)
+
+    def put(point, label):
+        x, y, z = point
+        voxels[x + x_size * (y + y_size * z)] = label
+
+    for label, (xs, ys, zs) in LABEL_BOXES.items():
+        for z in range(*zs):
+            for y in range(*ys):
+                for x in range(*xs):
+                    put((x, y, z), label)
+    for label, islands in LABEL_ISLANDS.items():
+        for point in islands:
+            put(point, label)
+    put(SPECK_OF_5_IN_3, 5)
+    sic_tool_test.write_nrrd(path, LABEL_SIZE, bytes(voxels), kind="uchar")
+
+
+def expected_label_pieces():
+    """Surface pieces per label before filtering with K >= 1: the box, the islands, and for 3 the cavity around
+    the voxel of 5 (a piece of 5 too); afterwards only the boxes."""
+    return {"3": 1 + len(LABEL_ISLANDS[3]) + 1, "5": 1 + len(LABEL_ISLANDS[5]) + 1}
+
+
+def is_label_3(pixel):
+    r, g, b = pixel  # the palette's teal, entry 3
+    return g > 60 and g > 1.25 * r and b > 1.25 * r
+
+
+def is_label_5(pixel):
+    r, g, b = pixel  # the palette's yellow, entry 5
+    return r > 80 and g > 0.65 * r and b < 0.6 * g
+
 
 class SmallIsoComponentSurfaceCLITest(ToolTestCase):
     def setUp(self):
@@ -119,6 +165,17 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
         path = self.path("phantom.nrrd")
         self.check(run(PHANTOM, path, "--size", size))
         return path
+
+    def panels(self, picture):
+        """The pixels of the four panels of a complete 1600 × 1200 picture: top left, top right, bottom left,
+        bottom right."""
+        with open(picture, "rb") as file:
+            self.assertEqual(file.read()[-12:], b"\0\0\0\0IEND\xaeB`\x82", "a complete PNG ends with IEND")
+        width, height, rows = read_png(picture)
+        self.assertEqual((width, height), (1600, 1200))
+        half_w, half_h = width // 2, height // 2
+        return [[pixel for row in rows[top:top + half_h] for pixel in row[left:left + half_w]]
+                for top in (0, half_h) for left in (0, half_w)]
 
     def stl_triangles(self, path):
         with open(path, "rb") as file:
@@ -186,14 +243,7 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
         environment.pop("DISPLAY", None)  # no display: the tool starts Xvfb itself
         self.check(run(FILTER, phantom, self.path("out.nrrd"), "--isovalue", PHANTOM_ISOVALUE, "--render", picture,
                        "--stats", stats, "--quiet", env=environment))
-        width, height, rows = read_png(picture)
-        self.assertEqual((width, height), (1600, 1200))
-        half_w, half_h = width // 2, height // 2
-        panels = []
-        for top in (0, half_h):
-            for left in (0, half_w):
-                pixels = [pixel for row in rows[top:top + half_h] for pixel in row[left:left + half_w]]
-                panels.append(pixels)
+        panels = self.panels(picture)
         counts = [{"red": sum(map(is_red, p)), "blue": sum(map(is_blue, p)), "surface": sum(map(is_surface, p))}
                   for p in panels]
         message = str(counts)
@@ -256,6 +306,79 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
                 self.assertUsageError(result, "data file of the input image", target)
                 self.assertFalse(os.path.exists(self.path("out.nrrd")))
         self.assertEqual({name: sic_tool_test.digest(self.path(name)) for name in digests}, digests)
+
+    def test_label_surface_pieces_per_label(self):
+        labels = self.path("labels.nrrd")
+        write_label_map(labels)
+        expected = expected_label_pieces()
+        for tool, extra in ((LABEL_FILTER, []), (FILTER, ["--labels"])):
+            with self.subTest(tool=os.path.basename(tool)):
+                after, before, stats = self.path("after.vtp"), self.path("before.vtp"), self.path("stats.json")
+                result = run(tool, labels, self.path("out.nrrd"), *extra, "--max-size", "5", "--surface", after,
+                             "--surface-before", before, "--stats", stats)
+                self.check(result)
+                statistics = load_json(stats)["statistics"]
+                for label, pieces in expected.items():
+                    entry = statistics["labels"][label]
+                    self.assertEqual(entry["surface_components_before"], pieces, label)
+                    self.assertEqual(entry["surface_components_after"], 1, label)
+                    self.assertIn("%s: %d -> 1;" % (label, pieces), result.stdout)
+                # The background has no surface.
+                self.assertNotIn("surface_components_before", statistics["labels"]["0"])
+                self.assertEqual(statistics["surface_components_before"], sum(expected.values()))
+                self.assertEqual(statistics["surface_components_after"], len(LABEL_BOXES))
+                self.assertEqual(statistics["removed_surface_components"],
+                                 sum(expected.values()) - len(LABEL_BOXES))
+                for path in (after, before):
+                    with open(path, "rb") as file:
+                        header = file.read(4096)
+                    self.assertIn(b'Name="label"', header, path)
+                    self.assertIn(b'Name="colour"', header, path)
+
+    def test_label_surfaces_need_vtp(self):
+        labels = self.path("labels.nrrd")
+        write_label_map(labels)
+        for option, name in (("--surface", "s.stl"), ("--surface-before", "s.ply"), ("--surface", "s.obj")):
+            with self.subTest(name=name):
+                result = run(LABEL_FILTER, labels, self.path("out.nrrd"), option, self.path(name))
+                self.assertUsageError(result, name, ".vtp")
+                self.assertEqual(sorted(os.listdir(self.dir)), ["labels.nrrd"], "nothing may be written")
+
+    def test_label_surface_failure_writes_nothing(self):
+        labels = self.path("labels.nrrd")
+        write_label_map(labels)
+        disk = self.small_disk("disk", size="32k", full=True)
+        for option, name in (("--surface", "s.vtp"), ("--surface-before", "b.vtp"), ("--render", "r.png")):
+            with self.subTest(name=name):
+                result = run(LABEL_FILTER, labels, self.path("out.nrrd"), "--quiet", "--stats",
+                             self.path("stats.json"), "--removed-mask", self.path("mask.nrrd"), option,
+                             os.path.join(disk, name))
+                self.assertUsageError(result, os.path.join(disk, name))
+                self.assertEqual(os.listdir(disk), ["filler"], "nothing may be left on the full disk")
+                self.assertEqual(sorted(os.listdir(self.dir)), ["disk", "labels.nrrd"], "nothing may be written")
+
+    def test_label_render_colours_each_label(self):
+        labels = self.path("labels.nrrd")
+        write_label_map(labels)
+        picture = self.path("panels.png")
+        environment = dict(os.environ)
+        environment.pop("DISPLAY", None)  # no display: the tool starts Xvfb itself
+        self.check(run(LABEL_FILTER, labels, self.path("out.nrrd"), "--max-size", "5", "--render", picture,
+                       "--quiet", env=environment))
+        counts = [{"3": sum(map(is_label_3, pixels)), "5": sum(map(is_label_5, pixels)),
+                   "plain": sum(map(is_surface, pixels)), "red": sum(map(is_red, pixels))}
+                  for pixels in self.panels(picture)]
+        message = str(counts)
+        # Every panel shows both labels in their own colours, none in the scalar surface's colours; the removed
+        # pieces (islands of both labels) are small, the boxes large.
+        for panel in range(4):
+            self.assertGreater(counts[panel]["3"], 10, message)
+            self.assertGreater(counts[panel]["5"], 10, message)
+            self.assertEqual(counts[panel]["plain"], 0, message)
+            self.assertEqual(counts[panel]["red"], 0, message)
+        for panel in (0, 1):
+            self.assertGreater(counts[panel]["3"], 10 * counts[2]["3"], message)
+            self.assertGreater(counts[panel]["5"], 10 * counts[2]["5"], message)
 
     def test_report_counts_match_the_filter(self):
         phantom = self.phantom()
