@@ -9,9 +9,10 @@ status=0
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900) || status=1
 "$root/scripts/check-format.sh" || status=1
 # AddressSanitizer + UndefinedBehaviorSanitizer on a subset that keeps CI short: the filter
-# tool (and so the filter) under the tool's fault tests (scripts/sanitize.sh asan runs all).
-asan_subset='SmallIsoComponentRobustness\.test_(full_disk_leaves|outputs_whose|corrupt_compressed|header_promising|termination)'
+# tool (and so the filter) under the tool's fault tests, and the label-map filter under the
+# comparison of both tools' label maps with it (scripts/sanitize.sh asan runs all).
+asan_subset='SmallIsoComponentRobustness\.test_(full_disk_leaves|outputs_whose|corrupt_compressed|header_promising|termination)|SmallIsoComponentLabelCLI\.test_output_and_mask'
 echo "test: ASan + UBSan subset (build-asan/)"
-SMALLISO_SANITIZE_TARGETS="SmallIsoComponentFilter SmallIsoComponentCLITestProbe" \
+SMALLISO_SANITIZE_TARGETS="SmallIsoComponentFilter SmallIsoComponentLabelFilter SmallIsoComponentCLITestProbe" \
   "$root/scripts/sanitize.sh" asan -R "$asan_subset" --timeout 900 || status=1
 exit $status
