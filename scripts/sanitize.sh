@@ -9,6 +9,7 @@
 # $SMALLISO_SANITIZE_TARGETS (target names, space-separated) builds only those, for a selection
 # that needs no others; by default asan builds everything and tsan the GoogleTest driver.
 # Build directory: $SMALLISO_SANITIZE_DIR, default ./build-asan or ./build-tsan.
+# Optimisation and debug flags: $SMALLISO_SANITIZE_OPTIMIZATION, default "-O1 -g".
 # Suppressions (each with its reason) are in scripts/sanitizers/.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -50,10 +51,12 @@ smalliso_install_missing "${smalliso_packages[@]}"
 
 echo "sanitize: configuring and building ($kind) in $build"
 # No build type: -O1 -g keeps the tests fast enough and the reports' stacks readable.
+optimization=${SMALLISO_SANITIZE_OPTIMIZATION:--O1 -g}
 # Debian's interpreter, as in setup.sh: the Python tests need Debian's packages.
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE= -DBUILD_TESTING=ON \
   -DPython3_EXECUTABLE="${SMALLISO_PYTHON:-/usr/bin/python3}" -DSmallIsoComponent_SANITIZER=$sanitizer \
-  -DCMAKE_C_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" -DCMAKE_CXX_FLAGS="$flags -fno-omit-frame-pointer -O1 -g" \
+  -DCMAKE_C_FLAGS="$flags -fno-omit-frame-pointer $optimization" \
+  -DCMAKE_CXX_FLAGS="$flags -fno-omit-frame-pointer $optimization" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
   >"$build.configure.log" 2>&1 || { cat "$build.configure.log" >&2; exit 1; }
 # shellcheck disable=SC2086 # the target names are words
