@@ -30,6 +30,26 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+/** Calls function(line) for every line of \a lines, in slabs of lines shared among the work units
+ * of \a threader. */
+template <typename TFunction>
+void
+ForEachLineInSlabs(MultiThreaderBase * threader, SizeValueType lines, const TFunction & function)
+{
+  const SizeValueType slabs =
+    std::min<SizeValueType>(lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * Tuning::SlabsPerWorkUnit);
+  threader->ParallelizeArray(
+    0,
+    slabs,
+    [&function, lines, slabs](SizeValueType slab) {
+      for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
+      {
+        function(line);
+      }
+    },
+    nullptr);
+}
+
 /** \class LabelComponents
  * The components of a label image: each line's runs of one label, joined with the runs of
  * the same label they touch on neighbouring lines (LineNeighbors says which lines those are).
@@ -132,19 +152,8 @@ private:
   void
   Encode(const TLabel * labels, SizeValueType lines, MultiThreaderBase * threader)
   {
-    const SizeValueType slabs =
-      std::min<SizeValueType>(lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * Tuning::SlabsPerWorkUnit);
-    const auto forEachLine = [threader, slabs, lines](const auto & lineFunction) {
-      threader->ParallelizeArray(
-        0,
-        slabs,
-        [&lineFunction, lines, slabs](SizeValueType slab) {
-          for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
-          {
-            lineFunction(line);
-          }
-        },
-        nullptr);
+    const auto forEachLine = [threader, lines](const auto & lineFunction) {
+      ForEachLineInSlabs(threader, lines, lineFunction);
     };
     m_LineBegin.assign(lines + 1, 0);
     forEachLine([this, labels](SizeValueType line) {

@@ -468,18 +468,8 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachLine(const RegionType &  inner
     }
     return;
   }
-  const SizeValueType slabs = std::min(
-    lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * SmallIsoComponentDetail::Tuning::SlabsPerWorkUnit);
-  threader->ParallelizeArray(
-    0,
-    slabs,
-    [&](SizeValueType slab) {
-      for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
-      {
-        function(line * inner.GetSize(0), lineFunction(line));
-      }
-    },
-    nullptr);
+  SmallIsoComponentDetail::ForEachLineInSlabs(
+    threader, lines, [&](SizeValueType line) { function(line * inner.GetSize(0), lineFunction(line)); });
 }
 
 template <typename TImage>
