@@ -234,9 +234,16 @@ private:
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
+  /** The index of the first voxel of line \a line of a buffer of \a region: the one place a
+   * line number or an offset becomes an index. */
+  static IndexType
+  IndexOfLine(const RegionType & region, SizeValueType line);
   /** The index of voxel \a offset of a buffer of \a region. */
   static IndexType
   IndexOf(const RegionType & region, SizeValueType offset);
+  /** The offset of \a index, inside \a region, in a buffer of \a region. */
+  static SizeValueType
+  OffsetOf(const RegionType & region, const IndexType & index);
   /** Calls function(offset in inner, offset in outer) for the first voxel of every line of
    * \a inner, a region inside \a outer, with the work units of \a threader when given. */
   template <typename TFunction>

@@ -174,15 +174,38 @@ SmallIsoComponentLabelImageFilter<TImage>::EnlargeOutputRequestedRegion(DataObje
 
 template <typename TImage>
 auto
-SmallIsoComponentLabelImageFilter<TImage>::IndexOf(const RegionType & region, SizeValueType offset) -> IndexType
+SmallIsoComponentLabelImageFilter<TImage>::IndexOfLine(const RegionType & region, SizeValueType line) -> IndexType
 {
   IndexType index = region.GetIndex();
-  for (unsigned int a = 0; a < ImageDimension; ++a)
+  for (unsigned int a = 1; a < ImageDimension; ++a)
   {
-    index[a] += static_cast<IndexValueType>(offset % region.GetSize(a));
-    offset /= region.GetSize(a);
+    index[a] += static_cast<IndexValueType>(line % region.GetSize(a));
+    line /= region.GetSize(a);
   }
   return index;
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::IndexOf(const RegionType & region, SizeValueType offset) -> IndexType
+{
+  IndexType index = IndexOfLine(region, offset / region.GetSize(0));
+  index[0] += static_cast<IndexValueType>(offset % region.GetSize(0));
+  return index;
+}
+
+template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::OffsetOf(const RegionType & region, const IndexType & index)
+{
+  SizeValueType offset = 0;
+  SizeValueType stride = 1;
+  for (unsigned int a = 0; a < ImageDimension; ++a)
+  {
+    offset += static_cast<SizeValueType>(index[a] - region.GetIndex(a)) * stride;
+    stride *= region.GetSize(a);
+  }
+  return offset;
 }
 
 template <typename TImage>
@@ -396,11 +419,10 @@ SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType * input
       {
         continue;
       }
-      SizeValueType rest = line;
+      const IndexType first = IndexOfLine(RegionType(size), line);
       for (unsigned int a = 1; a < ImageDimension; ++a)
       {
-        coordinates[a] = rest % size[a];
-        rest /= size[a];
+        coordinates[a] = static_cast<SizeValueType>(first[a]);
       }
       for (SizeValueType x = m_Components.Start(run); x < m_Components.End(run, line); ++x)
       {
@@ -448,18 +470,7 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachLine(const RegionType &  inner
   {
     lines *= inner.GetSize(a);
   }
-  const auto lineFunction = [&](SizeValueType line) {
-    SizeValueType outerOffset = static_cast<SizeValueType>(inner.GetIndex(0) - outer.GetIndex(0));
-    SizeValueType stride = outer.GetSize(0);
-    for (unsigned int a = 1; a < ImageDimension; ++a)
-    {
-      outerOffset +=
-        (line % inner.GetSize(a) + static_cast<SizeValueType>(inner.GetIndex(a) - outer.GetIndex(a))) * stride;
-      line /= inner.GetSize(a);
-      stride *= outer.GetSize(a);
-    }
-    return outerOffset;
-  };
+  const auto lineFunction = [&](SizeValueType line) { return OffsetOf(outer, IndexOfLine(inner, line)); };
   if (threader == nullptr || lines < 2)
   {
     for (SizeValueType line = 0; line < lines; ++line)
@@ -486,17 +497,7 @@ SmallIsoComponentLabelImageFilter<TImage>::CopyLines(const LabelType *   source,
     region,
     targetRegion,
     [&](SizeValueType inRegion, SizeValueType inTarget) {
-      SizeValueType inSource = 0;
-      SizeValueType rest = inRegion;
-      SizeValueType stride = 1;
-      for (unsigned int a = 0; a < ImageDimension; ++a)
-      {
-        inSource +=
-          (rest % region.GetSize(a) + static_cast<SizeValueType>(region.GetIndex(a) - sourceRegion.GetIndex(a))) *
-          stride;
-        rest /= region.GetSize(a);
-        stride *= sourceRegion.GetSize(a);
-      }
+      const SizeValueType inSource = OffsetOf(sourceRegion, IndexOfLine(region, inRegion / region.GetSize(0)));
       std::copy_n(source + inSource, region.GetSize(0), target + inTarget);
     },
     threader);
