@@ -80,7 +80,10 @@ operator<<(std::ostream & out, const SmallIsoComponentLabelEnums::Selection valu
  *
  * Any region asked of the output is exactly that part of the whole image's output: the filter
  * reads it with a halo of twice the largest K, so it streams (with KeepLargestComponents > 0 it
- * makes the whole image at once). The statistics describe the part read for the last piece.
+ * makes the whole image at once). The statistics describe the last piece: only its removed
+ * voxels are repaired, so the modified, unrepairable and gained voxels are those of the piece,
+ * while the components, removed components, removed voxels and histograms are those of the part
+ * read, the piece and its halo.
  *
  * docs/labels.md describes the rule and its choices; docs/algorithm.md the engine.
  *
@@ -222,6 +225,7 @@ private:
     SizeValueType Steps;
     bool          Kept;
   };
+  /** A removed voxel's new label, at its offset in the output's buffer. */
   struct Repair
   {
     SizeValueType Offset;
@@ -265,14 +269,23 @@ private:
    * output's region. */
   void
   WriteOutputs(const LabelType * labels, const RegionType & region, const std::vector<Repair> & repairs);
+  /** Calls function(line, run, begin, end, offset) for the part [begin, end) of each run of a
+   * removed component that lies in \a outputRegion, a region inside \a region: \a run is a run
+   * of line \a line of \a region's buffer, and offset is that of voxel begin in the output's
+   * buffer. */
+  template <typename TFunction>
+  void
+  ForEachRemovedRunInOutput(const RegionType & region, const RegionType & outputRegion, TFunction && function) const;
   bool
   IsSelected(LabelType label) const;
   /** Which components are removed (m_Removed, at their roots), with the statistics. */
   void
   DecideRemovals();
-  /** The new label of every voxel of the removed components, from the input. */
+  /** The new label of every removed voxel of \a outputRegion, the output's region, from \a input,
+   * the voxels of \a region. The halo's removed voxels are not written, so they are not repaired
+   * and the counts are those of the output's voxels. */
   std::vector<Repair>
-  RepairRemoved(const LabelType * input, const SizeType & size);
+  RepairRemoved(const LabelType * input, const RegionType & region, const RegionType & outputRegion);
   /** The votes of the walks from voxel \a x of \a run, a run of \a line at \a coordinates. */
   void
   CollectVotes(const LabelType *                  input,

@@ -404,27 +404,24 @@ SmallIsoComponentLabelImageFilter<TImage>::Elect(const std::vector<Vote> & votes
 
 template <typename TImage>
 auto
-SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType * input, const SizeType & size)
-  -> std::vector<Repair>
+SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType *  input,
+                                                         const RegionType & region,
+                                                         const RegionType & outputRegion) -> std::vector<Repair>
 {
   std::vector<Repair>        repairs;
   std::vector<Vote>          votes;
   std::vector<SizeValueType> coordinates(ImageDimension, 0);
-  const SizeValueType        lines = m_Components.GetNumberOfLines();
-  for (SizeValueType line = 0; line < lines; ++line)
-  {
-    for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
-    {
-      if (!m_Removed[m_Components.Component(run)])
-      {
-        continue;
-      }
-      const IndexType first = IndexOfLine(RegionType(size), line);
+  const SizeType             size = region.GetSize();
+  this->ForEachRemovedRunInOutput(
+    region,
+    outputRegion,
+    [&](SizeValueType line, RunIndex run, SizeValueType begin, SizeValueType end, SizeValueType inOutput) {
+      const IndexType first = IndexOfLine(region, line);
       for (unsigned int a = 1; a < ImageDimension; ++a)
       {
-        coordinates[a] = static_cast<SizeValueType>(first[a]);
+        coordinates[a] = static_cast<SizeValueType>(first[a] - region.GetIndex(a));
       }
-      for (SizeValueType x = m_Components.Start(run); x < m_Components.End(run, line); ++x)
+      for (SizeValueType x = begin; x < end; ++x)
       {
         this->CollectVotes(input, size, line, coordinates, run, x, votes);
         if (votes.empty())
@@ -434,10 +431,9 @@ SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType * input
         }
         const LabelType label = Elect(votes);
         ++m_LabelStatistics[label].GainedVoxels;
-        repairs.push_back({ line * size[0] + x, label });
+        repairs.push_back({ inOutput + x - begin, label });
       }
-    }
-  }
+    });
   return repairs;
 }
 
@@ -481,6 +477,29 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachLine(const RegionType &  inner
   }
   SmallIsoComponentDetail::ForEachLineInSlabs(
     threader, lines, [&](SizeValueType line) { function(line * inner.GetSize(0), lineFunction(line)); });
+}
+
+template <typename TImage>
+template <typename TFunction>
+void
+SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const RegionType & region,
+                                                                     const RegionType & outputRegion,
+                                                                     TFunction &&       function) const
+{
+  ForEachLine(outputRegion, region, [&](SizeValueType inOutput, SizeValueType inRegion) {
+    const SizeValueType line = inRegion / region.GetSize(0);
+    const SizeValueType first = inRegion % region.GetSize(0);
+    const SizeValueType last = first + outputRegion.GetSize(0);
+    for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
+    {
+      const SizeValueType begin = std::max(first, m_Components.Start(run));
+      const SizeValueType end = std::min(last, m_Components.End(run, line));
+      if (m_Removed[m_Components.Component(run)] && begin < end)
+      {
+        function(line, run, begin, end, inOutput + begin - first);
+      }
+    }
+  });
 }
 
 template <typename TImage>
@@ -530,7 +549,7 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals();
-  const std::vector<Repair> repairs = this->RepairRemoved(labels, size);
+  const std::vector<Repair> repairs = this->RepairRemoved(labels, region, this->GetOutput()->GetBufferedRegion());
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
   this->WriteOutputs(labels, region, repairs);
@@ -552,30 +571,18 @@ SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *       
   }
   for (const Repair & repair : repairs)
   {
-    const IndexType index = IndexOf(region, repair.Offset);
-    if (outputRegion.IsInside(index))
-    {
-      outputBuffer[output->ComputeOffset(index)] = repair.Label;
-    }
+    outputBuffer[repair.Offset] = repair.Label;
   }
   m_NumberOfModifiedVoxels = repairs.size();
   if (m_GenerateRemovedMask)
   {
     uint8_t * const mask = this->GetRemovedMask()->GetBufferPointer();
-    ForEachLine(outputRegion, region, [this, mask, &region, &outputRegion](SizeValueType inner, SizeValueType outer) {
-      const SizeValueType line = outer / region.GetSize(0);
-      const SizeValueType first = outer % region.GetSize(0);
-      const SizeValueType last = first + outputRegion.GetSize(0);
-      for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
-      {
-        if (m_Removed[m_Components.Component(run)])
-        {
-          const SizeValueType begin = std::max(first, m_Components.Start(run));
-          const SizeValueType end = std::min(last, m_Components.End(run, line));
-          std::fill(mask + inner + begin - first, mask + inner + std::max(begin, end) - first, 1);
-        }
-      }
-    });
+    this->ForEachRemovedRunInOutput(
+      region,
+      outputRegion,
+      [mask](SizeValueType, RunIndex, SizeValueType begin, SizeValueType end, SizeValueType inOutput) {
+        std::fill(mask + inOutput, mask + inOutput + (end - begin), 1);
+      });
   }
 }
 

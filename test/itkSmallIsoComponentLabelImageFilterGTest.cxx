@@ -26,6 +26,8 @@
 #include "itkStreamingImageFilter.h"
 #include "gtest/gtest.h"
 #include <cmath>
+#include <map>
+#include <string>
 
 namespace
 {
@@ -262,9 +264,47 @@ DrawRegion(RandomSource & random, const ImageRegion<VDimension> & whole)
   return region;
 }
 
+/** The counts of \a filter's last run are those of the voxels it wrote, its output's buffered
+ * region, voxel for voxel in \a whole's output: a repaired voxel always changes label, so the
+ * modified voxels are those that differ from \a input, and the unrepairable ones the rest of the
+ * removed. A voxel of the halo counted would make them larger. */
+template <typename TFilter, typename TImage>
+void
+ExpectCountsOfTheVoxelsWritten(TFilter * filter, TFilter * whole, const TImage * input, const std::string & what)
+{
+  using LabelType = typename TImage::PixelType;
+  SizeValueType                      modified = 0;
+  SizeValueType                      unrepairable = 0;
+  std::map<LabelType, SizeValueType> gained;
+  const auto                         region = filter->GetOutput()->GetBufferedRegion();
+  for (ImageRegionConstIteratorWithIndex<TImage> it(whole->GetOutput(), region); !it.IsAtEnd(); ++it)
+  {
+    if (it.Get() != input->GetPixel(it.GetIndex()))
+    {
+      ++modified;
+      ++gained[it.Get()];
+    }
+    else if (whole->GetRemovedMask()->GetPixel(it.GetIndex()) != 0)
+    {
+      ++unrepairable;
+    }
+  }
+  EXPECT_EQ(filter->GetNumberOfModifiedVoxels(), modified) << what << ", region " << region;
+  EXPECT_EQ(filter->GetNumberOfUnrepairableVoxels(), unrepairable) << what << ", region " << region;
+  std::map<LabelType, SizeValueType> counted;
+  for (const auto & entry : filter->GetLabelStatistics())
+  {
+    if (entry.second.GainedVoxels > 0)
+    {
+      counted[entry.first] = entry.second.GainedVoxels;
+    }
+  }
+  EXPECT_EQ(counted, gained) << what << ", region " << region;
+}
+
 /** Any part of the output, alone or as a piece of a streamed output, is that part of the whole
  * image's output: the filter reads the part with a halo of twice the largest K, and keeps what
- * reaches the halo's open border. */
+ * reaches the halo's open border. Its counts are those of the part's voxels. */
 template <unsigned int VDimension>
 void
 ExpectPartsOfTheWhole(uint32_t seed)
@@ -315,6 +355,7 @@ ExpectPartsOfTheWhole(uint32_t seed)
                part->GetRemovedMask()->GetPixel(it.GetIndex()) != whole->GetRemovedMask()->GetPixel(it.GetIndex());
     }
     EXPECT_EQ(wrong, 0u) << what << ", region " << region;
+    ExpectCountsOfTheVoxelsWritten(part.GetPointer(), whole.GetPointer(), input.GetPointer(), what);
   }
   // Streamed in pieces from a source that makes only the region asked of it.
   auto source = ShiftScaleImageFilter<ImageType, ImageType>::New();
@@ -327,6 +368,8 @@ ExpectPartsOfTheWhole(uint32_t seed)
   streamer->SetNumberOfStreamDivisions(static_cast<unsigned int>(random.Between(2, 9)));
   streamer->Update();
   EXPECT_EQ(SmallIsoComponentTest::CountDifferentVoxels(streamer->GetOutput(), whole->GetOutput()), 0u) << what;
+  // The filter's output holds the last piece.
+  ExpectCountsOfTheVoxelsWritten(filter.GetPointer(), whole.GetPointer(), input.GetPointer(), what);
 }
 
 TEST(SmallIsoComponentLabelImageFilter, PartsAndStreamedPiecesAreThoseOfTheWholeImage)
