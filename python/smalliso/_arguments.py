@@ -130,6 +130,14 @@ def check_threads(threads):
     return count
 
 
+def check_options(max_size, max_volume, threads, fully_connected, return_mask, return_stats):
+    """(max_size, max_volume, work units, fully_connected, return_mask, return_stats): the options
+    that the NumPy and Dask functions share, checked in that order."""
+    return (check_max_size(max_size), check_max_volume(max_volume), check_threads(threads),
+            check_flag(fully_connected, "fully_connected"), check_flag(return_mask, "return_mask"),
+            check_flag(return_stats, "return_stats"))
+
+
 SELECTIONS = ("all", "islands", "holes")
 
 

@@ -65,13 +65,9 @@ def remove_small_label_components(labels, max_size=20, fully_connected=False, *,
     ndarray, or a tuple
         The filtered label map, or ``(filtered, mask, stats)`` holding only the parts asked for.
     """
-    max_size = _arguments.check_max_size(max_size)
+    max_size, max_volume, work_units, fully_connected, return_mask, return_stats = _arguments.check_options(
+        max_size, max_volume, threads, fully_connected, return_mask, return_stats)
     keep_largest = _arguments.check_keep_largest(keep_largest)
-    max_volume = _arguments.check_max_volume(max_volume)
-    work_units = _arguments.check_threads(threads)
-    fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
-    return_mask = _arguments.check_flag(return_mask, "return_mask")
-    return_stats = _arguments.check_flag(return_stats, "return_stats")
     in_place = _arguments.check_flag(in_place, "in_place")
     labels, target = _prepare(labels, out, in_place, "a label for the masked voxels")
     dtype = _arguments.check_label_dtype(labels.dtype)

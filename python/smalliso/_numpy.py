@@ -69,13 +69,9 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         ``numpy.unique`` does with its ``return_*`` flags).
     """
     isovalue = _arguments.check_isovalue(isovalue)
-    max_size = _arguments.check_max_size(max_size)
     side = _arguments.check_side(side)
-    max_volume = _arguments.check_max_volume(max_volume)
-    work_units = _arguments.check_threads(threads)
-    fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
-    return_mask = _arguments.check_flag(return_mask, "return_mask")
-    return_stats = _arguments.check_flag(return_stats, "return_stats")
+    max_size, max_volume, work_units, fully_connected, return_mask, return_stats = _arguments.check_options(
+        max_size, max_volume, threads, fully_connected, return_mask, return_stats)
     in_place = _arguments.check_flag(in_place, "in_place")
     array, target = _prepare(array, out, in_place, "a value on the side the masked voxels belong to")
     _arguments.check_dtype(array.dtype)

@@ -188,13 +188,9 @@ def remove_small_components(array, isovalue, max_size=20, side="both", fully_con
         ``remove_small_components_zarr`` does, for the same.
     """
     isovalue = _arguments.check_isovalue(isovalue)
-    max_size = _arguments.check_max_size(max_size)
     side = _arguments.check_side(side)
-    max_volume = _arguments.check_max_volume(max_volume)
-    work_units = _arguments.check_threads(threads)
-    fully_connected = _arguments.check_flag(fully_connected, "fully_connected")
-    return_mask = _arguments.check_flag(return_mask, "return_mask")
-    return_stats = _arguments.check_flag(return_stats, "return_stats")
+    max_size, max_volume, work_units, fully_connected, return_mask, return_stats = _arguments.check_options(
+        max_size, max_volume, threads, fully_connected, return_mask, return_stats)
     source = input_of(array, chunks, "a value on the side the masked voxels belong to")
     dtype = _arguments.check_dtype(source.dtype)
     shape = _arguments.check_shape(source.shape)
