@@ -61,7 +61,8 @@ LabelsJson(const FilterReport & report)
                    { "gained_voxels", label.GainedVoxels },
                    { "size_histogram", HistogramJson(label.Histogram) } };
     for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &label.SurfacePiecesBefore),
-                                        std::make_pair("surface_components_after", &label.SurfacePiecesAfter) })
+                                        std::make_pair("surface_components_after", &label.SurfacePiecesAfter),
+                                        std::make_pair("removed_surface_components", &label.RemovedSurfacePieces) })
     {
       if (*pieces)
       {

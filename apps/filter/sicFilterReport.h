@@ -94,9 +94,11 @@ struct LabelReport : SideReport
 {
   /** Removed voxels of other labels that took this one. */
   std::uint64_t GainedVoxels{ 0 };
-  /** Connected pieces of the label's surface in the input and in the output, when they were extracted. */
+  /** Connected pieces of the label's surface in the input and in the output, and the input's pieces filtering
+   * removed, when they were extracted. */
   std::optional<std::uint64_t> SurfacePiecesBefore;
   std::optional<std::uint64_t> SurfacePiecesAfter;
+  std::optional<std::uint64_t> RemovedSurfacePieces;
 };
 
 /** Where each output is written before it is moved into place. */

@@ -262,6 +262,10 @@ ReportSurfacePieces(const std::vector<TLabel> & labels, const LabelSurfacePieces
     {
       entry.SurfacePiecesAfter = pieces.After[number];
     }
+    if (!pieces.Removed.empty())
+    {
+      entry.RemovedSurfacePieces = pieces.Removed[number];
+    }
   }
 }
 #endif

@@ -151,12 +151,13 @@ RenderLabelPanels(const FilterSettings & settings,
   RenderPanels(scene, staged.Render, settings.Render);
 }
 
-/** The pieces of each label's surface before and after filtering (indexed by label number; empty when that surface
- * was not extracted). */
+/** The pieces of each label's surface before and after filtering, and those removed (indexed by label number; empty
+ * when that surface was not extracted). */
 struct LabelSurfacePieces
 {
   std::vector<std::uint64_t> Before;
   std::vector<std::uint64_t> After;
+  std::vector<std::uint64_t> Removed;
 };
 
 /** Extracts the output's label surfaces, counts the pieces, and writes the surfaces and the picture the settings ask
@@ -204,6 +205,7 @@ WriteLabelSurfaces(const FilterSettings &                           settings,
     removed = TrianglesOfChangedCells(
       *before, filter.GetRemovedMask()->GetBufferPointer(), { { size[0], size[1], size[2] } }, true);
     report.RemovedSurfacePieces = CountSurfacePieces(*removed.All);
+    pieces.Removed = CountSurfacePiecesPerLabel(*removed.All, count);
   }
   const SurfaceGeometry geometry = SurfaceGeometryOf(*filter.GetOutput());
   auto                  ids = vtkSmartPointer<vtkAOSDataArrayTemplate<typename TFilter::LabelType>>::New();

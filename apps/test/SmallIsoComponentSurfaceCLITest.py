@@ -322,6 +322,7 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
                     entry = statistics["labels"][label]
                     self.assertEqual(entry["surface_components_before"], pieces, label)
                     self.assertEqual(entry["surface_components_after"], 1, label)
+                    self.assertEqual(entry["removed_surface_components"], pieces - 1, label)
                     self.assertIn("%s: %d -> 1;" % (label, pieces), result.stdout)
                 # The background has no surface.
                 self.assertNotIn("surface_components_before", statistics["labels"]["0"])
