@@ -21,14 +21,13 @@
 #include "itkIntTypes.h"
 #include "itkSmallIsoComponentLargeArray.h"
 #include "itkSmallIsoComponentLineNeighbors.h"
+#include "itkSmallIsoComponentRunLinking.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
 #include <atomic>
 #include <functional>
-#include <memory>
-#include <mutex>
 #include <vector>
 
 namespace itk
@@ -56,7 +55,8 @@ namespace SmallIsoComponentDetail
  *
  * Two neighbouring lines are linked by a merge of their runs, or, where runs are dense,
  * from the lines' boundary bits (a bit per voxel where a run starts), which finds the
- * touching pairs by bit counts without a branch per run.
+ * touching pairs by bit counts without a branch per run: RunLinking does it, on this
+ * class's run arrays.
  *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, 9 bytes per component, 8 bytes per candidate run
@@ -75,9 +75,9 @@ namespace SmallIsoComponentDetail
 class SmallIsoComponent_EXPORT alignas(64) RunLabeling
 {
 public:
-  using RunIndexType = uint32_t;
+  using RunIndexType = RunLinking::RunIndexType;
   using ComponentIndexType = uint32_t;
-  using CoordinateType = uint32_t;
+  using CoordinateType = RunLinking::CoordinateType;
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
    * number of work units the work will be shared among (the lines are cut into up to
@@ -145,7 +145,7 @@ public:
   uint64_t *
   GetKeptLineBits(SizeValueType line)
   {
-    return m_KeepLineBits ? m_KeptLineBits.data() + line * m_BitsWords : nullptr;
+    return m_Linking.GetKeptLineBits(line);
   }
   /** Links the runs inside each slab, the slabs shared among the members of \a team. */
   void
@@ -353,13 +353,8 @@ public:
   RunTable
   GetRunTable() const
   {
-    return { m_RunStart.data(),
-             m_RunLabel.data(),
-             m_LineRunBegin.data(),
-             m_LineFirstAbove.data(),
-             m_Size[0],
-             m_KeepLineBits ? m_KeptLineBits.data() : nullptr,
-             m_BitsWords };
+    return { m_RunStart.data(), m_RunLabel.data(),       m_LineRunBegin.data(),   m_LineFirstAbove.data(),
+             m_Size[0],         m_Linking.GetKeptBits(), m_Linking.GetBitsWords() };
   }
 
   /** The image extent given to Initialize() (axis 0 along the lines). */
@@ -377,7 +372,7 @@ public:
   const SmallIsoComponentDetail::LineNeighbors &
   GetLineNeighbors() const
   {
-    return m_LineNeighbors;
+    return m_Linking.GetLineNeighbors();
   }
 
   /** Bytes held now by the run, line and component arrays (with what they keep from an
@@ -403,23 +398,13 @@ protected:
    * class derived for the purpose. */
   /** @{ */
   /** How two neighbouring lines have their runs linked. */
-  enum class LineLinking : uint8_t
-  {
-    /** By their boundary bits where the two lines have at least Tuning::BitsRunsPerWord runs per
-     * 64 voxels of line, else by a merge. */
-    Automatic,
-    /** Always by a merge of their runs. */
-    Merge,
-    /** By their boundary bits whenever both lines' bits can be held at once. */
-    Bits
-  };
+  using LineLinking = RunLinking::LineLinking;
   /** Chooses how lines are linked and how many bytes of boundary bits a work unit keeps,
    * from the next Initialize() on. */
   void
   SetLineLinking(LineLinking linking, SizeValueType bitsCacheBytes = Tuning::BitsCacheBytes)
   {
-    m_LineLinking = linking;
-    m_BitsCacheBytes = bitsCacheBytes;
+    m_Linking.SetLineLinking(linking, bitsCacheBytes);
   }
   /** Sets the runs from which the numbering is shared. */
   void
@@ -436,85 +421,6 @@ protected:
   /** @} */
 
 private:
-  /** The boundary bits of recent lines: one bit per voxel, set where a run starts (64
-   * voxels a word), in a ring of slots indexed by line number. */
-  struct LineBits
-  {
-    std::vector<uint64_t>      Words;
-    std::vector<SizeValueType> Lines;
-  };
-  /** The rings not in use, kept for the next slab and the next image. */
-  struct LineBitsPool
-  {
-    std::mutex                             Mutex;
-    std::vector<std::unique_ptr<LineBits>> Free;
-  };
-
-  void
-  Union(RunIndexType a, RunIndexType b);
-  /** Joins, for each set bit of \a starts in a word of two lines' boundary bits \a a and
-   * \a b, the runs of the two lines holding that voxel (\a baseA and \a baseB: each line's
-   * last run before the word). The pairs are listed first, and those whose runs already
-   * share a parent left out without a branch. */
-  void
-  UnionAt(uint64_t starts, uint64_t a, RunIndexType baseA, uint64_t b, RunIndexType baseB);
-  /** Links the runs of two neighbouring lines, \a lineA after \a lineB, from their boundary
-   * bits or (\a byBits false) by a merge. */
-  void
-  LinkLines(SizeValueType lineA, SizeValueType lineB, LineBits & bits, bool byBits);
-  /** The same by a merge of the two lines' runs. */
-  void
-  MergeLines(SizeValueType lineA, SizeValueType lineB);
-  /** The same from the lines' boundary bits. */
-  void
-  LinkLineBits(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB);
-  /** The same, compiled for a processor with a bit-count instruction (x86 with GCC or
-   * Clang, chosen at run time). */
-  void
-  LinkLineBitsWithPopcount(SizeValueType lineA, const uint64_t * bitsA, SizeValueType lineB, const uint64_t * bitsB);
-  /** Whether two neighbouring lines are linked from their boundary bits (else by a merge). */
-  bool
-  LinksByBits(SizeValueType lineA, SizeValueType lineB) const;
-  /** Face connectivity in 3-D: links \a lineA with the line before it along axis 1 (lineA - 1),
-   * whose runs it is linked with first, and with the line a plane before it
-   * (lineA - \a linesPerRow), both from boundary bits (LinksByBits() for both pairs), in one
-   * pass. */
-  void
-  LinkSquare(SizeValueType lineA, SizeValueType linesPerRow, LineBits & bits);
-  /** The same from the boundary bits of the four lines of the square: \a bitsA, of the line
-   * before it (\a bitsB), of the line a plane before (\a bitsC) and of the line before that
-   * one (\a bitsD). */
-  void
-  LinkSquareBits(SizeValueType    lineA,
-                 SizeValueType    linesPerRow,
-                 const uint64_t * bitsA,
-                 const uint64_t * bitsB,
-                 const uint64_t * bitsC,
-                 const uint64_t * bitsD);
-  void
-  LinkSquareBitsWithPopcount(SizeValueType    lineA,
-                             SizeValueType    linesPerRow,
-                             const uint64_t * bitsA,
-                             const uint64_t * bitsB,
-                             const uint64_t * bitsC,
-                             const uint64_t * bitsD);
-  /** Writes \a line's boundary bits at \a bits from its starts. */
-  void
-  SetLineBitsFromStarts(SizeValueType line, uint64_t * bits) const;
-  /** The boundary bits of \a line, from \a bits or written into it. */
-  const uint64_t *
-  BitsOf(LineBits & bits, SizeValueType line) const;
-  std::unique_ptr<LineBits>
-  TakeLineBits();
-  /** Bytes held by the rings not in use (all of them between the loops). */
-  SizeValueType
-  GetLineBitsBytes() const;
-  void
-  GiveBackLineBits(std::unique_ptr<LineBits> bits);
-  /** Links the runs of one slab with each other. */
-  void
-  LinkInsideSlab(SizeValueType slab);
-
   /** How far the first stage of the shared numbering is: the lines whose runs have their
    * components, and the components numbered by then (at least). */
   struct Progress
@@ -544,11 +450,10 @@ private:
                           std::vector<LineRun> &            candidates);
 
 
-  std::vector<SizeValueType>             m_Size;
-  SizeValueType                          m_NumberOfLines{ 0 };
-  bool                                   m_FullyConnected{ false };
-  std::vector<SizeValueType>             m_SlabBeginLine;
-  SmallIsoComponentDetail::LineNeighbors m_LineNeighbors;
+  std::vector<SizeValueType> m_Size;
+  SizeValueType              m_NumberOfLines{ 0 };
+  bool                       m_FullyConnected{ false };
+  std::vector<SizeValueType> m_SlabBeginLine;
 
   SizeValueType m_NumberOfRuns{ 0 };
   /** Arrays of at least m_NumberOfRuns entries, left uninitialised so that the parallel
@@ -561,19 +466,12 @@ private:
   std::vector<uint8_t>       m_ComponentAbove;
   std::vector<CandidateRun>  m_CandidateRuns;
   SizeValueType              m_PeakMemoryInBytes{ 0 };
-  /** Words of boundary bits per line, and slots of a ring. */
-  SizeValueType m_BitsWords{ 0 };
-  SizeValueType m_BitsSlots{ 0 };
-  /** The boundary bits of every line, when kept (dense images), instead of rings. */
-  bool                 m_KeepLineBits{ false };
-  LargeArray<uint64_t> m_KeptLineBits;
-  LineLinking          m_LineLinking{ LineLinking::Automatic };
-  SizeValueType        m_BitsCacheBytes{ Tuning::BitsCacheBytes };
-  SizeValueType        m_MinimumRunsToShareNumbering{ Tuning::MinimumRunsToShareNumbering };
-  SizeValueType        m_LinesPerClaim{ Tuning::LinesPerClaim };
+  SizeValueType              m_MinimumRunsToShareNumbering{ Tuning::MinimumRunsToShareNumbering };
+  SizeValueType              m_LinesPerClaim{ Tuning::LinesPerClaim };
   /** Where each claim the first stage took begins in its candidates (kept between updates). */
-  std::vector<SizeValueType>    m_ClaimBegin;
-  std::unique_ptr<LineBitsPool> m_BitsPool{ std::make_unique<LineBitsPool>() };
+  std::vector<SizeValueType> m_ClaimBegin;
+  /** The linking of the runs of neighbouring lines, with its boundary bits. */
+  RunLinking m_Linking;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
