@@ -37,6 +37,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -160,6 +161,13 @@ struct LabelSurfacePieces
   std::vector<std::uint64_t> Removed;
 };
 
+/** The pieces of a surface, from its pieces per label: the labels share no points, so every piece has one label. */
+inline std::uint64_t
+TotalPieces(const std::vector<std::uint64_t> & perLabel)
+{
+  return std::accumulate(perLabel.begin(), perLabel.end(), std::uint64_t{ 0 });
+}
+
 /** Extracts the output's label surfaces, counts the pieces, and writes the surfaces and the picture the settings ask
  * for; \a before is the input's surfaces (null when none is asked for). The filter must have made its removed mask
  * when \a before is given. */
@@ -181,7 +189,7 @@ WriteLabelSurfaces(const FilterSettings &                           settings,
     progress.Stage("extracting the filtered label surfaces", 0.85, 0.87);
     after = LabelSurfacesOf(*filter.GetOutput(), labels);
     pieces.After = CountSurfacePiecesPerLabel(*after, count);
-    report.SurfacePiecesAfter = CountSurfacePieces(*after);
+    report.SurfacePiecesAfter = TotalPieces(pieces.After);
   }
   std::vector<std::array<unsigned char, 3>> colours(1, std::array<unsigned char, 3>{ { 0, 0, 0 } });
   for (const auto label : labels)
@@ -200,12 +208,12 @@ WriteLabelSurfaces(const FilterSettings &                           settings,
   if (before)
   {
     pieces.Before = CountSurfacePiecesPerLabel(*before, count);
-    report.SurfacePiecesBefore = CountSurfacePieces(*before);
+    report.SurfacePiecesBefore = TotalPieces(pieces.Before);
     const auto & size = filter.GetOutput()->GetBufferedRegion().GetSize();
     removed = TrianglesOfChangedCells(
       *before, filter.GetRemovedMask()->GetBufferPointer(), { { size[0], size[1], size[2] } }, true);
-    report.RemovedSurfacePieces = CountSurfacePieces(*removed.All);
     pieces.Removed = CountSurfacePiecesPerLabel(*removed.All, count);
+    report.RemovedSurfacePieces = TotalPieces(pieces.Removed);
   }
   const SurfaceGeometry geometry = SurfaceGeometryOf(*filter.GetOutput());
   auto                  ids = vtkSmartPointer<vtkAOSDataArrayTemplate<typename TFilter::LabelType>>::New();
