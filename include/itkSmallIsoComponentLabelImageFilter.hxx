@@ -486,20 +486,36 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const Regio
                                                                      const RegionType & outputRegion,
                                                                      TFunction &&       function) const
 {
-  ForEachLine(outputRegion, region, [&](SizeValueType inOutput, SizeValueType inRegion) {
-    const SizeValueType line = inRegion / region.GetSize(0);
-    const SizeValueType first = inRegion % region.GetSize(0);
-    const SizeValueType last = first + outputRegion.GetSize(0);
+  // Lines are visited in the buffer's order and placed in the output only at their first
+  // removed run: removed runs are few, so most lines cost no index arithmetic.
+  const SizeValueType first = static_cast<SizeValueType>(outputRegion.GetIndex(0) - region.GetIndex(0));
+  const SizeValueType last = first + outputRegion.GetSize(0);
+  for (SizeValueType line = 0; line < m_Components.GetNumberOfLines(); ++line)
+  {
+    bool          placed = false;
+    SizeValueType lineInOutput = 0;
     for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
     {
       const SizeValueType begin = std::max(first, m_Components.Start(run));
       const SizeValueType end = std::min(last, m_Components.End(run, line));
-      if (m_Removed[m_Components.Component(run)] && begin < end)
+      if (!m_Removed[m_Components.Component(run)] || begin >= end)
       {
-        function(line, run, begin, end, inOutput + begin - first);
+        continue;
       }
+      if (!placed)
+      {
+        IndexType index = IndexOfLine(region, line);
+        index[0] = outputRegion.GetIndex(0);
+        if (!outputRegion.IsInside(index))
+        {
+          break;
+        }
+        placed = true;
+        lineInOutput = OffsetOf(outputRegion, index);
+      }
+      function(line, run, begin, end, lineInOutput + begin - first);
     }
-  });
+  }
 }
 
 template <typename TImage>
