@@ -496,9 +496,13 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const Regio
     SizeValueType lineInOutput = 0;
     for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
     {
+      if (!m_Removed[m_Components.Component(run)])
+      {
+        continue;
+      }
       const SizeValueType begin = std::max(first, m_Components.Start(run));
       const SizeValueType end = std::min(last, m_Components.End(run, line));
-      if (!m_Removed[m_Components.Component(run)] || begin >= end)
+      if (begin >= end)
       {
         continue;
       }
