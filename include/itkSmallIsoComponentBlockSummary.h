@@ -100,6 +100,43 @@ struct SmallIsoComponent_EXPORT ComponentTally
   Add(const ComponentTally & other);
 };
 
+/** A face layer of a BlockSummary as runs of voxels of one node along its rows (a row runs along the lower of
+ * the face's two axes, rows in order along the higher): the runs of row r are
+ * Runs[RowBegin[r]] .. Runs[RowBegin[r + 1] - 1], each from its Column to the next run's (the
+ * last to the end of the row), the first at column 0. The faces of a summary cost what their
+ * runs do, not what their voxels do. */
+struct BlockFaceRun
+{
+  uint32_t Column;
+  uint32_t Node;
+};
+struct BlockFaceLayer
+{
+  std::vector<SizeValueType> RowBegin; // rows + 1 entries; empty when the face is not held
+  std::vector<BlockFaceRun>  Runs;
+
+  /** Building a layer: BeginRow() before each row, AddVoxels() for its voxels from left to
+   * right (voxels of the node of the run before them lengthen it), EndLayer() after the last. */
+  void
+  BeginRow()
+  {
+    RowBegin.push_back(Runs.size());
+  }
+  void
+  AddVoxels(SizeValueType column, uint32_t node)
+  {
+    if (Runs.size() == RowBegin.back() || Runs.back().Node != node)
+    {
+      Runs.push_back({ static_cast<uint32_t>(column), node });
+    }
+  }
+  void
+  EndLayer()
+  {
+    RowBegin.push_back(Runs.size());
+  }
+};
+
 /** \class BlockSummary
  * \brief What a box of a 3-D image tells about its components to the rest of the image: the
  * components that reach its faces, exactly enough to finish labelling, counting and deciding
@@ -155,42 +192,8 @@ public:
                const IndexType &      end,
                const ComponentRules & rules);
 
-  /** A face layer as runs of voxels of one node along its rows (a row runs along the lower of
-   * the face's two axes, rows in order along the higher): the runs of row r are
-   * Runs[RowBegin[r]] .. Runs[RowBegin[r + 1] - 1], each from its Column to the next run's (the
-   * last to the end of the row), the first at column 0. The faces of a summary cost what their
-   * runs do, not what their voxels do. */
-  struct FaceRun
-  {
-    uint32_t Column;
-    NodeType Node;
-  };
-  struct FaceLayer
-  {
-    std::vector<SizeValueType> RowBegin; // rows + 1 entries; empty when the face is not held
-    std::vector<FaceRun>       Runs;
-
-    /** Building a layer: BeginRow() before each row, AddVoxels() for its voxels from left to
-     * right (voxels of the node of the run before them lengthen it), EndLayer() after the last. */
-    void
-    BeginRow()
-    {
-      RowBegin.push_back(Runs.size());
-    }
-    void
-    AddVoxels(SizeValueType column, NodeType node)
-    {
-      if (Runs.size() == RowBegin.back() || Runs.back().Node != node)
-      {
-        Runs.push_back({ static_cast<uint32_t>(column), node });
-      }
-    }
-    void
-    EndLayer()
-    {
-      RowBegin.push_back(Runs.size());
-    }
-  };
+  using FaceRun = BlockFaceRun;
+  using FaceLayer = BlockFaceLayer;
 
   /** \name Building from a labelled box
    * The box's components are numbered 0..n-1 (AddComponent() in order). Each face inside the
@@ -237,42 +240,11 @@ public:
     return m_Tally;
   }
 
-  const IndexType &
-  GetBegin() const
-  {
-    return m_Begin;
-  }
-  const IndexType &
-  GetEnd() const
-  {
-    return m_End;
-  }
-  const IndexType &
-  GetImageSize() const
-  {
-    return m_ImageSize;
-  }
-  const ComponentRules &
-  GetRules() const
-  {
-    return m_Rules;
-  }
   /** Nodes still held: components that are open or not final yet. */
   SizeValueType
   GetNumberOfNodes() const
   {
     return m_Size.size();
-  }
-  /** Whether the node is an above component, and its voxels so far. */
-  bool
-  IsNodeAbove(NodeType node) const
-  {
-    return m_Above[node] != 0;
-  }
-  uint64_t
-  GetNodeSize(NodeType node) const
-  {
-    return m_Size[node];
   }
   /** Bytes held by the summary. */
   SizeValueType
