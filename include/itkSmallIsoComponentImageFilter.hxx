@@ -454,16 +454,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     // With Side Both, the memory of the groups' component table and of the removed runs,
     // taken later anyway, serves first as the scratch of a shared numbering's help: the
     // partial sizes and the candidates of the lines its first stage sums.
-    const bool bothSides = m_Side == SideEnum::Both;
-    labeling.LabelComponents(team,
-                             aboveCandidateSize,
-                             belowCandidateSize,
-                             fillOne,
-                             labeling.GetNumberOfRuns() *
-                                 SmallIsoComponentDetail::Tuning::FillBytesPerRunToShareNumbering >=
-                               fill.GetNumberOfBytes(),
-                             bothSides ? &m_Working->Groups.GroupOfComponent : nullptr,
-                             bothSides ? &m_Working->Runs : nullptr);
+    const bool                                      bothSides = m_Side == SideEnum::Both;
+    SmallIsoComponentDetail::RunComponents::Sharing sharing;
+    sharing.OtherWork = fillOne;
+    sharing.Pipeline = labeling.GetNumberOfRuns() * SmallIsoComponentDetail::Tuning::FillBytesPerRunToShareNumbering >=
+                       fill.GetNumberOfBytes();
+    sharing.PartialSizes = bothSides ? &m_Working->Groups.GroupOfComponent : nullptr;
+    sharing.PartialCandidates = bothSides ? &m_Working->Runs : nullptr;
+    labeling.LabelComponents(team, aboveCandidateSize, belowCandidateSize, sharing);
     if (nextBlock.load() < blocks)
     {
       team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType) {
@@ -699,7 +697,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::CollectRemovedRuns(Work
     return;
   }
   // Every run of a removed component is a candidate (it has at most K voxels).
-  working.Labeling.CollectCandidateRuns(removed, team, working.Marks, working.Runs);
+  working.Labeling.GetComponents().CollectCandidateRuns(removed, team, working.Marks, working.Runs);
 }
 
 template <typename TInputImage, typename TOutputImage>

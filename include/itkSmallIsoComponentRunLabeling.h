@@ -21,14 +21,13 @@
 #include "itkIntTypes.h"
 #include "itkSmallIsoComponentLargeArray.h"
 #include "itkSmallIsoComponentLineNeighbors.h"
+#include "itkSmallIsoComponentRunComponents.h"
 #include "itkSmallIsoComponentRunLinking.h"
 #include "itkSmallIsoComponentRunTable.h"
 #include "itkSmallIsoComponentWorkTeam.h"
 #include "SmallIsoComponentExport.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
-#include <atomic>
-#include <functional>
 #include <type_traits>
 #include <vector>
 
@@ -62,7 +61,7 @@ namespace SmallIsoComponentDetail
  *
  * Memory: 4 bytes per run for its start, 4 bytes per run for its parent (later its
  * component), 9 bytes per line, 9 bytes per component, 8 bytes per candidate run
- * (LabelComponents(candidateSize)), and for each work unit the boundary bits of the lines
+ * (LabelComponents()), and for each work unit the boundary bits of the lines
  * a line reaches back to (at most Tuning::BitsCacheBytes); where lines have Tuning::BitsRunsPerWord / 2 runs
  * per 64 voxels or more on average, the boundary bits of every line instead (one bit per
  * voxel, at most 1/6 byte per run). The arrays keep their memory from one Initialize() to
@@ -78,7 +77,7 @@ class SmallIsoComponent_EXPORT alignas(64) RunLabeling
 {
 public:
   using RunIndexType = RunLinking::RunIndexType;
-  using ComponentIndexType = uint32_t;
+  using ComponentIndexType = RunComponents::ComponentIndexType;
   using CoordinateType = RunLinking::CoordinateType;
 
   /** Sets the image extent (axis 0 is the scanline axis), the connectivity, and the
@@ -159,120 +158,39 @@ public:
   void
   LinkRuns();
 
-  /** Numbers the components in order of their first run and sums their sizes. */
-  void
-  LabelComponents();
-
-  /** The same, and keeps as candidates (see CollectCandidateRuns()) every run whose
-   * component has at most \a candidateSize voxels up to and including that run: all the
-   * runs of every component of at most \a candidateSize voxels, and a few runs of the
-   * larger ones. */
-  void
-  LabelComponents(SizeValueType candidateSize)
-  {
-    this->LabelComponents(candidateSize, candidateSize);
-  }
-
-  /** The same with a candidate size for each side: the runs of the side whose size is 0
-   * are never candidates (for a filter that removes components of one side only, which
-   * then neither keeps nor visits the other side's). */
+  /** Numbers the components in order of their first run and sums their sizes, keeping the
+   * candidate runs of each side (RunComponents::Number()); with \a team, shared as
+   * \a sharing allows. */
   void
   LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize);
-
-  struct LineRun;
-  /** The same, shared between two work units of \a team when it has several and there
-   * are at least GetMinimumRunsToShareNumbering() runs, as a pipeline: one numbers the
-   * components, line by line, and the other follows it, summing the sizes of the
-   * components and keeping the candidates of the lines numbered already. The result is
-   * that of the serial numbering. \a otherWork (if given, and with several work units)
-   * fills the time a work unit would wait: it does one piece of some other work and
-   * returns true, or returns false when none is left. It is called by the second stage
-   * while the first has no lines ready for it, by the first once it is done, by any
-   * further work units from the start, and, where the numbering is serial (fewer runs, or
-   * \a share false), by the other work units beside it; concurrently, so it must hand out
-   * its pieces safely. What it leaves is the caller's.
-   *
-   * Given two scratch arrays (\a partialSizes and \a partialCandidates, whose contents
-   * are lost and whose memory is kept), the first work unit, once done with its stage and
-   * the other work, sums the last lines itself, taking them from the end while the second
-   * takes them from the front, into sizes of its own added to the others at the end, while
-   * their runs fit in the capacity \a partialCandidates has already (so none the first
-   * time a filter's scratch is empty) and their voxels in 32 bits. The
-   * sizes and side of every component are then those of the serial numbering, and so are
-   * the candidates (see CollectCandidateRuns()) except in the lines the first work unit
-   * summed: there only the runs of components of at most the candidate size are kept. */
   void
-  LabelComponents(WorkTeam &                        team,
-                  SizeValueType                     aboveCandidateSize,
-                  SizeValueType                     belowCandidateSize,
-                  const std::function<bool()> &     otherWork = {},
-                  bool                              share = true,
-                  std::vector<ComponentIndexType> * partialSizes = nullptr,
-                  std::vector<LineRun> *            partialCandidates = nullptr);
+  LabelComponents(WorkTeam &                     team,
+                  SizeValueType                  aboveCandidateSize,
+                  SizeValueType                  belowCandidateSize,
+                  const RunComponents::Sharing & sharing = {});
 
-  SizeValueType
-  GetMinimumRunsToShareNumbering() const
+  /** The components, after LabelComponents(): sizes, sides and candidate runs. */
+  const RunComponents &
+  GetComponents() const
   {
-    return m_MinimumRunsToShareNumbering;
+    return m_Components;
   }
-
-
   SizeValueType
   GetNumberOfComponents() const
   {
-    return m_ComponentSize.size();
+    return m_Components.GetNumberOfComponents();
   }
   SizeValueType
   GetComponentSize(ComponentIndexType component) const
   {
-    return m_ComponentSize[component];
+    return m_Components.GetComponentSize(component);
   }
   bool
   IsComponentAbove(ComponentIndexType component) const
   {
-    return m_ComponentAbove[component] != 0;
+    return m_Components.IsComponentAbove(component);
   }
-
-  /** A run and its line (lines are fewer than runs, so both fit the run index type). */
-  struct LineRun
-  {
-    RunIndexType Run;
-    RunIndexType Line;
-  };
-  /** A candidate run and its component: the collection reads which components are selected
-   * without reading the components array (a candidate every few runs would read nearly
-   * every cache line of it), and finds the lines by a cursor over the lines' first runs. */
-  struct CandidateRun
-  {
-    RunIndexType       Run;
-    ComponentIndexType Component;
-  };
-
-  /** The candidate runs (kept by LabelComponents(candidateSize)) whose component is
-   * flagged in \a selected, in run order: every run of the selected components if they
-   * have at most candidateSize voxels. Visits the candidates only, not every run. */
-  std::vector<LineRun>
-  CollectCandidateRuns(const std::vector<uint8_t> & selected) const;
-  /** The same into \a runs, the candidates shared among the work units of \a team in as
-   * many parts: each part marks its selected candidates in \a marked (one byte per
-   * candidate; left as it is with one part) and counts them, then copies them to its place
-   * in \a runs. Both keep their memory, for the next image. */
-  void
-  CollectCandidateRuns(const std::vector<uint8_t> & selected,
-                       WorkTeam &                   team,
-                       std::vector<uint8_t> &       marked,
-                       std::vector<LineRun> &       runs) const;
-  /** The serial one into \a runs. */
-  void
-  CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const;
-  /** The line of \a run (a binary search over the lines' first runs). */
-  SizeValueType
-  LineOfRun(SizeValueType run) const
-  {
-    return static_cast<SizeValueType>(std::upper_bound(m_LineRunBegin.begin(), m_LineRunBegin.end(), run) -
-                                      m_LineRunBegin.begin()) -
-           1;
-  }
+  using LineRun = RunComponents::LineRun;
 
   /** The runs, read-only, as arrays (RunTable): valid from AssembleRuns() until the next
    * Initialize(). */
@@ -336,50 +254,21 @@ protected:
   {
     m_Linking.SetLineLinking(linking, bitsCacheBytes);
   }
-  /** Sets the runs from which the numbering is shared. */
+  /** Sets the runs from which the numbering is shared, and the lines per claim of a
+   * shared numbering (at least 1). */
   void
   SetMinimumRunsToShareNumbering(SizeValueType runs)
   {
-    m_MinimumRunsToShareNumbering = runs;
+    m_Components.SetMinimumRunsToShare(runs);
   }
-  /** Sets the lines per claim of a shared numbering (at least 1). */
   void
   SetLinesPerClaim(SizeValueType lines)
   {
-    m_LinesPerClaim = std::max(lines, SizeValueType{ 1 });
+    m_Components.SetLinesPerClaim(lines);
   }
   /** @} */
 
 private:
-  /** How far the first stage of the shared numbering is: the lines whose runs have their
-   * components, and the components numbered by then (at least). */
-  struct Progress
-  {
-    std::atomic<SizeValueType> Lines{ 0 };
-    std::atomic<SizeValueType> Components{ 0 };
-  };
-  /** The first stage of the shared numbering: gives every run its component and every
-   * component its side, and says in \a progress how far it is. */
-  void
-  NumberRuns(Progress & progress);
-  /** The second stage: the sizes and candidates of the components, line by line as
-   * \a progress allows. */
-  void
-  SumComponents(const Progress &              progress,
-                const SizeValueType           candidateSize[2],
-                const std::function<bool()> & otherWork,
-                std::atomic<uint64_t> &       claims);
-  /** The first stage's help to the second: the lines it takes from the end, a claim at a
-   * time, summed into \a partialSizes (one per component), their candidates (by
-   * these partial sizes) into \a candidates, where each claim's begin in m_ClaimBegin.
-   * Returns whether it took any. */
-  bool
-  SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
-                          const SizeValueType               candidateSize[2],
-                          std::vector<ComponentIndexType> & partialSizes,
-                          std::vector<LineRun> &            candidates);
-
-
   std::vector<SizeValueType> m_Size;
   SizeValueType              m_NumberOfLines{ 0 };
   bool                       m_FullyConnected{ false };
@@ -392,14 +281,9 @@ private:
   std::vector<SizeValueType> m_LineRunBegin;
   std::vector<uint8_t>       m_LineFirstAbove;
   LargeArray<RunIndexType>   m_RunLabel;
-  std::vector<SizeValueType> m_ComponentSize;
-  std::vector<uint8_t>       m_ComponentAbove;
-  std::vector<CandidateRun>  m_CandidateRuns;
   SizeValueType              m_PeakMemoryInBytes{ 0 };
-  SizeValueType              m_MinimumRunsToShareNumbering{ Tuning::MinimumRunsToShareNumbering };
-  SizeValueType              m_LinesPerClaim{ Tuning::LinesPerClaim };
-  /** Where each claim the first stage took begins in its candidates (kept between updates). */
-  std::vector<SizeValueType> m_ClaimBegin;
+  /** The components of the linked runs. */
+  RunComponents m_Components;
   /** The linking of the runs of neighbouring lines, with its boundary bits. */
   RunLinking m_Linking;
 };

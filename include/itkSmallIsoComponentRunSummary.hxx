@@ -40,7 +40,7 @@ LabelBox(const TPixel *                  values,
   encoder.Encode(values, labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents(maximumComponentSize);
+  labeling.LabelComponents(maximumComponentSize, maximumComponentSize);
 }
 
 template <typename TPixel>

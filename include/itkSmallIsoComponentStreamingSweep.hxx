@@ -280,7 +280,7 @@ StreamingSweep<TPixel>::LabelSlab(Slab & s, unsigned int workUnits) const
   }
   // The runs of the small components, grouped by component (in run order within each).
   {
-    const auto runs = s.Labeling.CollectCandidateRuns(small);
+    const auto runs = s.Labeling.GetComponents().CollectCandidateRuns(small);
     s.CandidateBegin.assign(components + 1, 0);
     for (const auto & run : runs)
     {

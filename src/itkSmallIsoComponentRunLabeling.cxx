@@ -18,14 +18,8 @@
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkMacro.h"
 #include "itkNumericTraits.h"
-#include "itkSmallIsoComponentBitCount.h"
-#include "itkSmallIsoComponentPrefetch.h"
 #include <algorithm>
-#include <atomic>
-#include <functional>
 #include <numeric>
-#include <thread>
-#include <type_traits>
 
 
 namespace itk
@@ -67,9 +61,7 @@ RunLabeling::Initialize(const std::vector<SizeValueType> & size, bool fullyConne
   m_NumberOfRuns = 0;
   m_LineRunBegin.assign(m_NumberOfLines + 1, 0);
   m_LineFirstAbove.assign(m_NumberOfLines, 0);
-  m_ComponentSize.clear();
-  m_ComponentAbove.clear();
-  m_CandidateRuns.clear();
+  m_Components.Clear();
   m_PeakMemoryInBytes = 0;
 }
 
@@ -78,12 +70,12 @@ RunLabeling::ReleaseMemory()
 {
   const LineLinking   linking = m_Linking.GetLineLinking();
   const SizeValueType bitsCacheBytes = m_Linking.GetBitsCacheBytes();
-  const SizeValueType minimumRunsToShareNumbering = m_MinimumRunsToShareNumbering;
-  const SizeValueType linesPerClaim = m_LinesPerClaim;
+  // The components keep their ways of sharing the numbering.
+  RunComponents components = std::move(m_Components);
+  components.ReleaseMemory();
   *this = RunLabeling();
+  m_Components = std::move(components);
   this->SetLineLinking(linking, bitsCacheBytes);
-  this->SetMinimumRunsToShareNumbering(minimumRunsToShareNumbering);
-  this->SetLinesPerClaim(linesPerClaim);
 }
 
 void
@@ -104,6 +96,8 @@ RunLabeling::ReserveRuns()
   m_RunStart.Reserve(numberOfRuns);
   m_RunLabel.Reserve(numberOfRuns);
   m_Linking.SetRuns(m_RunStart.data(), m_RunLabel.data(), m_LineRunBegin.data(), m_LineFirstAbove.data(), numberOfRuns);
+  m_Components.SetRuns(
+    m_RunStart.data(), m_RunLabel.data(), m_LineRunBegin.data(), m_LineFirstAbove.data(), m_Size[0], m_NumberOfLines);
 }
 
 void
@@ -131,479 +125,21 @@ RunLabeling::LinkRuns()
   m_Linking.LinkSeams(m_SlabBeginLine);
 }
 
-namespace
-{
-/** Resizes \a sizes to \a count entries (new ones 0), its capacity doubled as often as
- * needed: the capacity is then that which adding the entries one by one gives, whatever
- * steps it was resized in (the shared numbering's depend on timing). */
-void
-GrowSizes(std::vector<SizeValueType> & sizes, SizeValueType count)
-{
-  if (count > sizes.capacity())
-  {
-    SizeValueType capacity = std::max<SizeValueType>(sizes.capacity(), 1);
-    while (capacity < count)
-    {
-      capacity *= 2;
-    }
-    sizes.reserve(capacity);
-  }
-  sizes.resize(count, 0);
-}
-
-/** Candidate runs gathered in a small buffer, appended to \a runs when it is full and at the
- * end: a run is one store, and the vector is reached once per Tuning::CandidateBufferRuns runs. TEntry is
- * RunLabeling::CandidateRun (a run and its component) or RunLabeling::LineRun (a run and its
- * line). */
-template <typename TEntry>
-class CandidateBuffer
-{
-public:
-  explicit CandidateBuffer(std::vector<TEntry> & runs)
-    : m_Runs(runs)
-  {}
-  void
-  Add(SizeValueType run, SizeValueType line, SizeValueType component)
-  {
-    if constexpr (std::is_same<TEntry, RunLabeling::LineRun>::value)
-    {
-      m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run),
-                              static_cast<RunLabeling::RunIndexType>(line) };
-    }
-    else
-    {
-      m_Buffer[m_Count++] = { static_cast<RunLabeling::RunIndexType>(run),
-                              static_cast<RunLabeling::ComponentIndexType>(component) };
-    }
-    if (m_Count == Tuning::CandidateBufferRuns)
-    {
-      this->Flush();
-    }
-  }
-  void
-  Flush()
-  {
-    m_Runs.insert(m_Runs.end(), m_Buffer, m_Buffer + m_Count);
-    m_Count = 0;
-  }
-
-private:
-  std::vector<TEntry> & m_Runs;
-  TEntry                m_Buffer[Tuning::CandidateBufferRuns];
-  SizeValueType         m_Count{ 0 };
-};
-
-/** Adds the runs of \a line to the sizes of their components (numbered already), and keeps
- * as candidates those whose component has at most candidateSize[its side] voxels so far. */
-template <typename TSize, typename TEntry>
-SMALLISO_ALWAYS_INLINE void
-SumLine(const RunLabeling::RunTable & table,
-        SizeValueType                 line,
-        TSize *                       sizes,
-        const SizeValueType           candidateSize[2],
-        CandidateBuffer<TEntry> &     candidates)
-{
-  const SizeValueType end = table.LineBegin[line + 1];
-  bool                above = table.LineFirstAbove[line] != 0;
-  for (SizeValueType run = table.LineBegin[line]; run < end; ++run, above = !above)
-  {
-    const SizeValueType component = table.Component[run];
-    const SizeValueType size =
-      sizes[component] + (run + 1 < end ? SizeValueType{ table.Start[run + 1] } : table.LineLength) - table.Start[run];
-    sizes[component] = static_cast<TSize>(size);
-    if (size <= candidateSize[above])
-    {
-      candidates.Add(run, line, component);
-    }
-  }
-}
-} // namespace
-
-void
-RunLabeling::LabelComponents()
-{
-  // Every run has at least one voxel: no run is a candidate.
-  this->LabelComponents(0);
-}
-
 void
 RunLabeling::LabelComponents(SizeValueType aboveCandidateSize, SizeValueType belowCandidateSize)
 {
-  m_ComponentSize.clear();
-  m_ComponentAbove.clear();
-  m_CandidateRuns.clear();
-  RunIndexType * const          label = m_RunLabel.data();
-  const CoordinateType * const  start = m_RunStart.data();
-  const SizeValueType           length = m_Size[0];
-  CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
-  const SizeValueType           candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
-  // The sizes are reached through a local pointer, renewed when a component is added, so
-  // that the loop does not read the vector's again for every run.
-  SizeValueType * sizes = m_ComponentSize.data();
-  for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
-  {
-    const SizeValueType end = m_LineRunBegin[line + 1];
-    bool                above = m_LineFirstAbove[line] != 0;
-    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
-    {
-      // Parents never point to a later run, so the parent's entry already holds its
-      // component number.
-      const RunIndexType parent = label[run];
-      RunIndexType       component;
-      if (parent == run)
-      {
-        component = static_cast<ComponentIndexType>(m_ComponentSize.size());
-        m_ComponentSize.push_back(0);
-        m_ComponentAbove.push_back(above);
-        sizes = m_ComponentSize.data();
-      }
-      else
-      {
-        component = label[parent];
-      }
-      label[run] = component;
-      const SizeValueType size =
-        sizes[component] + (run + 1 < end ? SizeValueType{ start[run + 1] } : length) - start[run];
-      sizes[component] = size;
-      // A component's size only grows, so every run of a component that ends at most
-      // candidateSize voxels large is kept, in a small buffer emptied when full. A branch,
-      // though mispredicted where a speck begins or ends, is faster than storing every run
-      // into the buffer without one: few runs are candidates.
-      if (size <= candidateSize[above])
-      {
-        candidates.Add(run, line, component);
-      }
-    }
-  }
-  candidates.Flush();
-}
-
-void
-RunLabeling::LabelComponents(WorkTeam &                        team,
-                             SizeValueType                     aboveCandidateSize,
-                             SizeValueType                     belowCandidateSize,
-                             const std::function<bool()> &     otherWork,
-                             bool                              share,
-                             std::vector<ComponentIndexType> * partialSizes,
-                             std::vector<LineRun> *            partialCandidates)
-{
-  const auto doOtherWork = [&otherWork] {
-    if (otherWork)
-    {
-      while (otherWork())
-      {}
-    }
-  };
-  if (team.GetNumberOfWorkUnits() < 2 || !share || m_NumberOfRuns < m_MinimumRunsToShareNumbering)
-  {
-    // Serial, the other work beside it (with one work unit, no other work: ForEach() then
-    // runs item 0 alone).
-    team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType item) {
-      if (item == 0)
-      {
-        this->LabelComponents(aboveCandidateSize, belowCandidateSize);
-      }
-      else
-      {
-        doOtherWork();
-      }
-    });
-    return;
-  }
-  m_ComponentSize.clear();
-  m_ComponentAbove.clear();
-  m_CandidateRuns.clear();
-  const SizeValueType candidateSize[2] = { belowCandidateSize, aboveCandidateSize };
-  Progress            progress;
-  // The second stage takes every claim unless the first helps it.
-  const SizeValueType   claims = (m_NumberOfLines + m_LinesPerClaim - 1) / m_LinesPerClaim;
-  std::atomic<uint64_t> claimed{ uint64_t{ claims } << 32 };
-  bool                  helped = false;
-  // The items are handed out in order: whoever takes the second finds the first under way
-  // (or done), and the first never waits.
-  team.ForEach(team.GetNumberOfWorkUnits(), [&](SizeValueType stage) {
-    if (stage == 0)
-    {
-      // The shorter stage: the other work after it, then the help.
-      this->NumberRuns(progress);
-      doOtherWork();
-      if (partialSizes != nullptr && partialCandidates != nullptr)
-      {
-        helped = this->SumComponentsFromTheEnd(claimed, candidateSize, *partialSizes, *partialCandidates);
-      }
-    }
-    else if (stage == 1)
-    {
-      this->SumComponents(progress, candidateSize, otherWork, claimed);
-    }
-    else
-    {
-      doOtherWork();
-    }
-  });
-  if (helped)
-  {
-    // The components first met in the helper's lines have no size yet.
-    const SizeValueType components = m_ComponentAbove.size();
-    GrowSizes(m_ComponentSize, components);
-    const ComponentIndexType * const partial = partialSizes->data();
-    SizeValueType * const            sizes = m_ComponentSize.data();
-    for (SizeValueType component = 0; component < components; ++component)
-    {
-      sizes[component] += partial[component];
-    }
-    // The helper's claims, taken from the end, are appended in line order, and only the
-    // runs of components of at most the candidate size: its partial sizes kept others too,
-    // and the candidates are never more than the serial numbering's (the arrays sized by
-    // them keep the size of the first update).
-    const RunIndexType * const    label = m_RunLabel.data();
-    CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
-    for (SizeValueType claim = m_ClaimBegin.size() - 1; claim > 0; --claim)
-    {
-      for (SizeValueType i = m_ClaimBegin[claim - 1]; i < m_ClaimBegin[claim]; ++i)
-      {
-        const LineRun      candidate = (*partialCandidates)[i];
-        const RunIndexType component = label[candidate.Run];
-        if (sizes[component] <= candidateSize[m_ComponentAbove[component]])
-        {
-          candidates.Add(candidate.Run, candidate.Line, component);
-        }
-      }
-    }
-    candidates.Flush();
-    partialCandidates->clear();
-  }
+  m_Components.Number(aboveCandidateSize, belowCandidateSize);
   m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
 }
 
 void
-RunLabeling::NumberRuns(Progress & progress)
+RunLabeling::LabelComponents(WorkTeam &                     team,
+                             SizeValueType                  aboveCandidateSize,
+                             SizeValueType                  belowCandidateSize,
+                             const RunComponents::Sharing & sharing)
 {
-  RunIndexType * const label = m_RunLabel.data();
-  ComponentIndexType   components = 0;
-  for (SizeValueType line = 0; line < m_NumberOfLines; ++line)
-  {
-    const SizeValueType end = m_LineRunBegin[line + 1];
-    bool                above = m_LineFirstAbove[line] != 0;
-    for (SizeValueType run = m_LineRunBegin[line]; run < end; ++run, above = !above)
-    {
-      // Parents never point to a later run, so the parent's entry already holds its
-      // component number.
-      const RunIndexType parent = label[run];
-      RunIndexType       component;
-      if (parent == run)
-      {
-        component = components++;
-        m_ComponentAbove.push_back(above);
-      }
-      else
-      {
-        component = label[parent];
-      }
-      label[run] = component;
-    }
-    if ((line + 1) % Tuning::NumberingLinesPerStep == 0)
-    {
-      progress.Components.store(components, std::memory_order_relaxed);
-      progress.Lines.store(line + 1, std::memory_order_release);
-    }
-  }
-  progress.Components.store(components, std::memory_order_relaxed);
-  progress.Lines.store(m_NumberOfLines, std::memory_order_release);
-}
-
-void
-RunLabeling::SumComponents(const Progress &              progress,
-                           const SizeValueType           candidateSize[2],
-                           const std::function<bool()> & otherWork,
-                           std::atomic<uint64_t> &       claims)
-{
-  const RunTable                table = this->GetRunTable();
-  CandidateBuffer<CandidateRun> candidates(m_CandidateRuns);
-  SizeValueType *               sizes = m_ComponentSize.data();
-  SizeValueType                 ready = 0;
-  uint64_t                      claimed = claims.load(std::memory_order_relaxed);
-  while (true)
-  {
-    // The next claim from the front, unless the first stage has taken it from the end. The
-    // claims only share the lines out: the results are joined after the loop.
-    const uint64_t front = claimed & 0xffffffffU;
-    if (front >= (claimed >> 32))
-    {
-      break;
-    }
-    if (!claims.compare_exchange_weak(claimed, claimed + 1, std::memory_order_relaxed))
-    {
-      continue;
-    }
-    claimed = claimed + 1;
-    const SizeValueType lastLine = std::min(m_NumberOfLines, (front + 1) * m_LinesPerClaim);
-    for (SizeValueType line = front * m_LinesPerClaim; line < lastLine; ++line)
-    {
-      if (line >= ready)
-      {
-        // The sizes of the components numbered so far are made room for at once, rather
-        // than one by one behind a branch on every run.
-        while ((ready = progress.Lines.load(std::memory_order_acquire)) <= line)
-        {
-          if (!otherWork || !otherWork())
-          {
-            std::this_thread::yield();
-          }
-        }
-        GrowSizes(m_ComponentSize, progress.Components.load(std::memory_order_relaxed));
-        sizes = m_ComponentSize.data();
-      }
-      SumLine(table, line, sizes, candidateSize, candidates);
-    }
-  }
-  candidates.Flush();
-}
-
-bool
-RunLabeling::SumComponentsFromTheEnd(std::atomic<uint64_t> &           claims,
-                                     const SizeValueType               candidateSize[2],
-                                     std::vector<ComponentIndexType> & partialSizes,
-                                     std::vector<LineRun> &            candidateRuns)
-{
-  const RunTable      table = this->GetRunTable();
-  const SizeValueType length = m_Size[0];
-  // The partial sizes have 32 bits: the help ends before its lines could hold more voxels.
-  // It ends too before the candidates could fill the capacity the scratch has already
-  // (every run of a claim could be one): the help takes no memory of its own (and none
-  // the first time).
-  const SizeValueType voxelsPerClaim = m_LinesPerClaim * length;
-  const SizeValueType room = candidateRuns.capacity();
-  SizeValueType       voxels = 0;
-  uint64_t            claimed = claims.load(std::memory_order_relaxed);
-  bool                first = true;
-  while (voxels + voxelsPerClaim <= NumericTraits<ComponentIndexType>::max())
-  {
-    const uint64_t back = claimed >> 32;
-    if ((claimed & 0xffffffffU) >= back)
-    {
-      break;
-    }
-    const SizeValueType claim = back - 1;
-    const SizeValueType firstLine = claim * m_LinesPerClaim;
-    const SizeValueType lastLine = std::min(m_NumberOfLines, firstLine + m_LinesPerClaim);
-    const SizeValueType claimRuns = m_LineRunBegin[lastLine] - m_LineRunBegin[firstLine];
-    if (candidateRuns.size() + claimRuns > room)
-    {
-      break;
-    }
-    if (!claims.compare_exchange_weak(claimed, claimed - (uint64_t{ 1 } << 32), std::memory_order_relaxed))
-    {
-      continue;
-    }
-    claimed = claimed - (uint64_t{ 1 } << 32);
-    if (first)
-    {
-      partialSizes.assign(m_ComponentAbove.size(), 0);
-      candidateRuns.clear();
-      m_ClaimBegin.assign(1, 0);
-      first = false;
-    }
-    ComponentIndexType * const sizes = partialSizes.data();
-    CandidateBuffer<LineRun>   candidates(candidateRuns);
-    for (SizeValueType line = firstLine; line < lastLine; ++line)
-    {
-      // A component with at most candidateSize voxels has at most as many here: its runs
-      // are all kept.
-      SumLine(table, line, sizes, candidateSize, candidates);
-    }
-    candidates.Flush();
-    voxels += voxelsPerClaim;
-    m_ClaimBegin.push_back(candidateRuns.size());
-  }
-  return !first;
-}
-
-auto
-RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected) const -> std::vector<LineRun>
-{
-  std::vector<LineRun> runs;
-  this->CollectCandidateRuns(selected, runs);
-  return runs;
-}
-
-void
-RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected, std::vector<LineRun> & runs) const
-{
-  runs.clear();
-  const SizeValueType        candidates = m_CandidateRuns.size();
-  const CandidateRun * const candidate = m_CandidateRuns.data();
-  if (candidates == 0)
-  {
-    return;
-  }
-  // The candidates are in run order: the line of each selected one is found by moving a
-  // cursor forward from the first candidate's.
-  const SizeValueType * const lineBegin = m_LineRunBegin.data();
-  SizeValueType               line = this->LineOfRun(candidate[0].Run);
-  for (SizeValueType i = 0; i < candidates; ++i)
-  {
-    if (selected[candidate[i].Component])
-    {
-      while (lineBegin[line + 1] <= candidate[i].Run)
-      {
-        ++line;
-      }
-      runs.push_back({ candidate[i].Run, static_cast<RunIndexType>(line) });
-    }
-  }
-}
-
-void
-RunLabeling::CollectCandidateRuns(const std::vector<uint8_t> & selected,
-                                  WorkTeam &                   team,
-                                  std::vector<uint8_t> &       marked,
-                                  std::vector<LineRun> &       runs) const
-{
-  const SizeValueType candidates = m_CandidateRuns.size();
-  const SizeValueType parts = team.GetNumberOfParts(candidates);
-  if (parts == 1)
-  {
-    this->CollectCandidateRuns(selected, runs);
-    return;
-  }
-  const CandidateRun * const candidate = m_CandidateRuns.data();
-  marked.resize(candidates);
-  std::vector<SizeValueType> partBegin(parts + 1, 0);
-  team.ForEach(parts, [&](SizeValueType part) {
-    const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
-    SizeValueType       count = 0;
-    for (SizeValueType i = WorkTeam::PartBegin(candidates, part, parts); i < end; ++i)
-    {
-      marked[i] = selected[candidate[i].Component];
-      count += marked[i];
-    }
-    partBegin[part + 1] = count;
-  });
-  std::partial_sum(partBegin.begin(), partBegin.end(), partBegin.begin());
-  runs.resize(partBegin[parts]);
-  const SizeValueType * const lineBegin = m_LineRunBegin.data();
-  team.ForEach(parts, [&](SizeValueType part) {
-    const SizeValueType begin = WorkTeam::PartBegin(candidates, part, parts);
-    const SizeValueType end = WorkTeam::PartBegin(candidates, part + 1, parts);
-    if (begin == end)
-    {
-      return;
-    }
-    LineRun *     out = runs.data() + partBegin[part];
-    SizeValueType line = this->LineOfRun(candidate[begin].Run);
-    for (SizeValueType i = begin; i < end; ++i)
-    {
-      if (marked[i])
-      {
-        while (lineBegin[line + 1] <= candidate[i].Run)
-        {
-          ++line;
-        }
-        *out++ = { candidate[i].Run, static_cast<RunIndexType>(line) };
-      }
-    }
-  });
+  m_Components.Number(team, aboveCandidateSize, belowCandidateSize, sharing);
+  m_PeakMemoryInBytes = std::max(m_PeakMemoryInBytes, this->GetMemoryInBytes());
 }
 
 SizeValueType
@@ -611,9 +147,7 @@ RunLabeling::GetMemoryInBytes() const
 {
   return m_RunStart.capacity() * sizeof(CoordinateType) + m_RunLabel.capacity() * sizeof(RunIndexType) +
          m_LineRunBegin.capacity() * sizeof(SizeValueType) + m_LineFirstAbove.capacity() +
-         m_ComponentSize.capacity() * sizeof(SizeValueType) + m_ComponentAbove.capacity() +
-         m_CandidateRuns.capacity() * sizeof(CandidateRun) + m_ClaimBegin.capacity() * sizeof(SizeValueType) +
-         m_Linking.GetMemoryInBytes();
+         m_Components.GetMemoryInBytes() + m_Linking.GetMemoryInBytes();
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -113,7 +113,7 @@ AddTouchingOfSmallAbove(BlockSummary & summary, const RunLabeling & labeling)
     return;
   }
   const RunLabeling::RunTable table = labeling.GetRunTable();
-  for (const auto & candidate : labeling.CollectCandidateRuns(possiblySmall))
+  for (const auto & candidate : labeling.GetComponents().CollectCandidateRuns(possiblySmall))
   {
     const auto above = static_cast<NodeType>(table.Component[candidate.Run]);
     NodeType   last = BlockSummary::NoNode;

@@ -71,10 +71,11 @@ Group(Grouped &                           grouped,
     }
   }
   // Every run is a candidate: the candidate size is the whole image.
-  const std::vector<RunLabeling::LineRun> flippedRuns = grouped.Labeling.CollectCandidateRuns(grouped.Flipped);
-  BelowGrouping                           grouping(grouped.Labeling);
-  const SizeValueType                     ranges = (flippedRuns.size() + rangeRuns - 1) / rangeRuns;
-  auto                                    threader = itk::MultiThreaderBase::New();
+  const std::vector<RunLabeling::LineRun> flippedRuns =
+    grouped.Labeling.GetComponents().CollectCandidateRuns(grouped.Flipped);
+  BelowGrouping       grouping(grouped.Labeling);
+  const SizeValueType ranges = (flippedRuns.size() + rangeRuns - 1) / rangeRuns;
+  auto                threader = itk::MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(workUnits);
   itk::SmallIsoComponentDetail::WorkTeam team(threader, workUnits);
   team.ForEach(ranges, [&](SizeValueType range) {

@@ -108,13 +108,10 @@ Label(SmallIsoComponentDetail::RunLabeling &                                  la
   SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(values.data(), labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents(team,
-                           aboveCandidates ? candidateSize : 0,
-                           belowCandidates ? candidateSize : 0,
-                           {},
-                           true,
-                           partialSizes,
-                           partialCandidates);
+  SmallIsoComponentDetail::RunComponents::Sharing sharing;
+  sharing.PartialSizes = partialSizes;
+  sharing.PartialCandidates = partialCandidates;
+  labeling.LabelComponents(team, aboveCandidates ? candidateSize : 0, belowCandidates ? candidateSize : 0, sharing);
 }
 
 /** The component of every voxel, from the runs of a labeling. */

@@ -217,7 +217,8 @@ CheckRandomVolume(RandomSource &                      random,
       }
       // Alone, and shared among the work units of teams of one to three, into the same
       // arrays each time (as the filter reuses its own).
-      std::vector<std::vector<RunLabeling::LineRun>> collections{ labeling.CollectCandidateRuns(selected) };
+      std::vector<std::vector<RunLabeling::LineRun>> collections{ labeling.GetComponents().CollectCandidateRuns(
+        selected) };
       std::vector<uint8_t>                           marked;
       std::vector<RunLabeling::LineRun>              reused;
       for (const unsigned int units : { 1u, 2u, 3u })
@@ -225,7 +226,7 @@ CheckRandomVolume(RandomSource &                      random,
         auto threader = itk::MultiThreaderBase::New();
         threader->SetNumberOfWorkUnits(units);
         itk::SmallIsoComponentDetail::WorkTeam team(threader, units);
-        labeling.CollectCandidateRuns(selected, team, marked, reused);
+        labeling.GetComponents().CollectCandidateRuns(selected, team, marked, reused);
         collections.push_back(reused);
       }
       std::vector<std::vector<RunLabeling::LineRun>> expectedOf(collections.size(), expected);
@@ -242,7 +243,7 @@ CheckRandomVolume(RandomSource &                      random,
             expectedOfSide.push_back(run);
           }
         }
-        collections.push_back(oneSide.CollectCandidateRuns(selected));
+        collections.push_back(oneSide.GetComponents().CollectCandidateRuns(selected));
         expectedOf.push_back(expectedOfSide);
       }
       for (SizeValueType c = 0; c < collections.size(); ++c)
@@ -260,7 +261,7 @@ CheckRandomVolume(RandomSource &                      random,
       // The memory it reports covers the bytes per run, line, component and candidate
       // that its class documentation states.
       std::vector<uint8_t> all(labeling.GetNumberOfComponents(), 1);
-      const SizeValueType  candidates = labeling.CollectCandidateRuns(all).size();
+      const SizeValueType  candidates = labeling.GetComponents().CollectCandidateRuns(all).size();
       EXPECT_GE(labeling.GetMemoryInBytes(),
                 8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetNumberOfComponents() + 8 * candidates);
     }
@@ -286,8 +287,8 @@ CheckRandomVolume(RandomSource &                      random,
     {
       small[c] = serial.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <= candidateSize ? 1 : 0;
     }
-    const auto serialCandidates = serial.CollectCandidateRuns(all);
-    const auto serialSmall = serial.CollectCandidateRuns(small);
+    const auto serialCandidates = serial.GetComponents().CollectCandidateRuns(all);
+    const auto serialSmall = serial.GetComponents().CollectCandidateRuns(small);
     for (const unsigned int units : { 2u, 3u })
     {
       // No help; help with room for every run; help with room for a quarter of the voxels.
@@ -332,8 +333,8 @@ CheckRandomVolume(RandomSource &                      random,
           ASSERT_EQ(shared.GetComponentSize(component), serial.GetComponentSize(component)) << "component " << c;
           ASSERT_EQ(shared.IsComponentAbove(component), serial.IsComponentAbove(component)) << "component " << c;
         }
-        const auto sharedCandidates = shared.CollectCandidateRuns(all);
-        const auto sharedSmall = shared.CollectCandidateRuns(small);
+        const auto sharedCandidates = shared.GetComponents().CollectCandidateRuns(all);
+        const auto sharedSmall = shared.GetComponents().CollectCandidateRuns(small);
         ASSERT_EQ(sharedSmall.size(), serialSmall.size());
         for (SizeValueType i = 0; i < serialSmall.size(); ++i)
         {

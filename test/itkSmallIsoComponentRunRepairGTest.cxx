@@ -96,7 +96,7 @@ CheckRepairs(uint32_t      seed,
       removed[c] = labeling.IsComponentAbove(component) == removedAreAbove &&
                    labeling.GetComponentSize(component) <= maximumSize && random.Chance(0.8);
     }
-    const auto runs = labeling.CollectCandidateRuns(removed);
+    const auto runs = labeling.GetComponents().CollectCandidateRuns(removed);
 
     // Some voxels were marked by an earlier pass: the repair marks them again.
     std::vector<T>       output = values;

@@ -180,7 +180,7 @@ LabelSides(const TPixel *                          buffer,
   itk::SmallIsoComponentDetail::RunEncoder<TPixel>(isoValue).Encode(buffer, labeling, team);
   labeling.AssembleRuns(team);
   labeling.LinkRuns();
-  labeling.LabelComponents();
+  labeling.LabelComponents(0, 0);
 
   above = SideHistogram();
   below = SideHistogram();
