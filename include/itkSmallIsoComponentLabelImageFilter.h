@@ -20,6 +20,7 @@
 
 #include "itkInPlaceImageFilter.h"
 #include "itkSmallIsoComponentLabelComponents.h"
+#include "itkSmallIsoComponentRegionLines.h"
 #include <map>
 #include <ostream>
 #include <vector>
@@ -238,33 +239,6 @@ private:
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
-  /** The index of the first voxel of line \a line of a buffer of \a region: the one place a
-   * line number or an offset becomes an index. */
-  static IndexType
-  IndexOfLine(const RegionType & region, SizeValueType line);
-  /** The index of voxel \a offset of a buffer of \a region. */
-  static IndexType
-  IndexOf(const RegionType & region, SizeValueType offset);
-  /** The offset of \a index, inside \a region, in a buffer of \a region. */
-  static SizeValueType
-  OffsetOf(const RegionType & region, const IndexType & index);
-  /** Calls function(offset in inner, offset in outer) for the first voxel of every line of
-   * \a inner, a region inside \a outer, with the work units of \a threader when given. */
-  template <typename TFunction>
-  static void
-  ForEachLine(const RegionType &  inner,
-              const RegionType &  outer,
-              TFunction &&        function,
-              MultiThreaderBase * threader = nullptr);
-  /** Copies \a region from \a source, a buffer of \a sourceRegion, into \a target, a buffer of
-   * \a targetRegion. */
-  static void
-  CopyLines(const LabelType *   source,
-            const RegionType &  sourceRegion,
-            LabelType *         target,
-            const RegionType &  targetRegion,
-            const RegionType &  region,
-            MultiThreaderBase * threader = nullptr);
   /** The output and the mask: \a labels, the voxels of \a region, with \a repairs, in the
    * output's region. */
   void

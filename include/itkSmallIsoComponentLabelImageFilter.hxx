@@ -173,42 +173,6 @@ SmallIsoComponentLabelImageFilter<TImage>::EnlargeOutputRequestedRegion(DataObje
 }
 
 template <typename TImage>
-auto
-SmallIsoComponentLabelImageFilter<TImage>::IndexOfLine(const RegionType & region, SizeValueType line) -> IndexType
-{
-  IndexType index = region.GetIndex();
-  for (unsigned int a = 1; a < ImageDimension; ++a)
-  {
-    index[a] += static_cast<IndexValueType>(line % region.GetSize(a));
-    line /= region.GetSize(a);
-  }
-  return index;
-}
-
-template <typename TImage>
-auto
-SmallIsoComponentLabelImageFilter<TImage>::IndexOf(const RegionType & region, SizeValueType offset) -> IndexType
-{
-  IndexType index = IndexOfLine(region, offset / region.GetSize(0));
-  index[0] += static_cast<IndexValueType>(offset % region.GetSize(0));
-  return index;
-}
-
-template <typename TImage>
-SizeValueType
-SmallIsoComponentLabelImageFilter<TImage>::OffsetOf(const RegionType & region, const IndexType & index)
-{
-  SizeValueType offset = 0;
-  SizeValueType stride = 1;
-  for (unsigned int a = 0; a < ImageDimension; ++a)
-  {
-    offset += static_cast<SizeValueType>(index[a] - region.GetIndex(a)) * stride;
-    stride *= region.GetSize(a);
-  }
-  return offset;
-}
-
-template <typename TImage>
 void
 SmallIsoComponentLabelImageFilter<TImage>::AllocateOutputs()
 {
@@ -244,9 +208,9 @@ SmallIsoComponentLabelImageFilter<TImage>::VerifyWholeNumbers(const LabelType * 
   });
   if (bad != labels + count)
   {
-    itkExceptionMacro("The label image's sample at " << IndexOf(region, static_cast<SizeValueType>(bad - labels))
-                                                     << " is " << static_cast<double>(*bad)
-                                                     << "; a label image holds whole numbers only.");
+    itkExceptionMacro("The label image's sample at "
+                      << SmallIsoComponentDetail::IndexOf(region, static_cast<SizeValueType>(bad - labels)) << " is "
+                      << static_cast<double>(*bad) << "; a label image holds whole numbers only.");
   }
 }
 
@@ -416,7 +380,7 @@ SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType *  inpu
     region,
     outputRegion,
     [&](SizeValueType line, RunIndex run, SizeValueType begin, SizeValueType end, SizeValueType inOutput) {
-      const IndexType first = IndexOfLine(region, line);
+      const IndexType first = SmallIsoComponentDetail::IndexOfLine(region, line);
       for (unsigned int a = 1; a < ImageDimension; ++a)
       {
         coordinates[a] = static_cast<SizeValueType>(first[a] - region.GetIndex(a));
@@ -456,32 +420,6 @@ SmallIsoComponentLabelImageFilter<TImage>::ComputeEffectiveMaximumComponentSize(
 template <typename TImage>
 template <typename TFunction>
 void
-SmallIsoComponentLabelImageFilter<TImage>::ForEachLine(const RegionType &  inner,
-                                                       const RegionType &  outer,
-                                                       TFunction &&        function,
-                                                       MultiThreaderBase * threader)
-{
-  SizeValueType lines = 1;
-  for (unsigned int a = 1; a < ImageDimension; ++a)
-  {
-    lines *= inner.GetSize(a);
-  }
-  const auto lineFunction = [&](SizeValueType line) { return OffsetOf(outer, IndexOfLine(inner, line)); };
-  if (threader == nullptr || lines < 2)
-  {
-    for (SizeValueType line = 0; line < lines; ++line)
-    {
-      function(line * inner.GetSize(0), lineFunction(line));
-    }
-    return;
-  }
-  SmallIsoComponentDetail::ForEachLineInSlabs(
-    threader, lines, [&](SizeValueType line) { function(line * inner.GetSize(0), lineFunction(line)); });
-}
-
-template <typename TImage>
-template <typename TFunction>
-void
 SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const RegionType & region,
                                                                      const RegionType & outputRegion,
                                                                      TFunction &&       function) const
@@ -508,38 +446,18 @@ SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const Regio
       }
       if (!placed)
       {
-        IndexType index = IndexOfLine(region, line);
+        IndexType index = SmallIsoComponentDetail::IndexOfLine(region, line);
         index[0] = outputRegion.GetIndex(0);
         if (!outputRegion.IsInside(index))
         {
           break;
         }
         placed = true;
-        lineInOutput = OffsetOf(outputRegion, index);
+        lineInOutput = SmallIsoComponentDetail::OffsetOf(outputRegion, index);
       }
       function(line, run, begin, end, lineInOutput + begin - first);
     }
   }
-}
-
-template <typename TImage>
-void
-SmallIsoComponentLabelImageFilter<TImage>::CopyLines(const LabelType *   source,
-                                                     const RegionType &  sourceRegion,
-                                                     LabelType *         target,
-                                                     const RegionType &  targetRegion,
-                                                     const RegionType &  region,
-                                                     MultiThreaderBase * threader)
-{
-  // Where each line of the region starts in the target, from where it starts in the region.
-  ForEachLine(
-    region,
-    targetRegion,
-    [&](SizeValueType inRegion, SizeValueType inTarget) {
-      const SizeValueType inSource = OffsetOf(sourceRegion, IndexOfLine(region, inRegion / region.GetSize(0)));
-      std::copy_n(source + inSource, region.GetSize(0), target + inTarget);
-    },
-    threader);
 }
 
 template <typename TImage>
@@ -553,7 +471,7 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   if (region != input->GetBufferedRegion())
   {
     m_Part.resize(region.GetNumberOfPixels());
-    CopyLines(labels, input->GetBufferedRegion(), m_Part.data(), region, region);
+    SmallIsoComponentDetail::CopyLines(labels, input->GetBufferedRegion(), m_Part.data(), region, region);
     labels = m_Part.data();
   }
   this->VerifyWholeNumbers(labels, region);
@@ -587,7 +505,8 @@ SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *       
   LabelType *      outputBuffer = output->GetBufferPointer();
   if (outputBuffer != labels)
   {
-    CopyLines(labels, region, outputBuffer, outputRegion, outputRegion, this->GetMultiThreader());
+    SmallIsoComponentDetail::CopyLines(
+      labels, region, outputBuffer, outputRegion, outputRegion, this->GetMultiThreader());
   }
   for (const Repair & repair : repairs)
   {
