@@ -26,6 +26,7 @@
 #include "itkSmallIsoComponentPhaseClock.h"
 #include "itkSmallIsoComponentRunLabeling.h"
 #include "itkSmallIsoComponentTuning.h"
+#include "itkSmallIsoComponentWorkingMemory.h"
 #include <memory>
 #include <type_traits>
 #include <vector>
@@ -222,33 +223,8 @@ private:
     ComponentSizeHistogramType Histogram;
   };
 
-  /** What an update works in besides the input and the output, kept for the next update
-   * (ReleaseWorkingMemory() gives it back): the labelling, the grouping of the below pass,
-   * and the arrays of the passes, which keep their memory when they are cleared. */
-  struct WorkingMemory
-  {
-    SmallIsoComponentDetail::RunLabeling Labeling;
-    BelowGrouping                        Grouping;
-    BelowGrouping::Groups                Groups;
-    /** One flag per component: removed by the above pass, by the below pass. */
-    std::vector<uint8_t> RemovedAbove;
-    std::vector<uint8_t> RemovedBelow;
-    /** One flag per group of the below pass: removed. */
-    std::vector<uint8_t> RemovedGroups;
-    /** The runs a pass removes, in run order (each pass's in turn). */
-    std::vector<LineRun> Runs;
-    /** The marks of the parallel collection of Runs. */
-    std::vector<uint8_t> Marks;
-    /** The repair's new values, one array per chunk. */
-    std::vector<std::vector<OutputPixelType>> Values;
-
-    /** Bytes held besides the labelling. */
-    SizeValueType
-    GetPassBytes() const;
-    /** Gives back all the memory; the labelling keeps its settings. */
-    void
-    ReleaseMemory();
-  };
+  /** Kept for the next update (ReleaseWorkingMemory() gives it back). */
+  using WorkingMemory = SmallIsoComponentDetail::WorkingMemory<OutputPixelType, ImageDimension>;
 
   SideStatistics &
   StatisticsOf(SideEnum side);

@@ -100,32 +100,6 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ReleaseWorkingMemory()
 
 template <typename TInputImage, typename TOutputImage>
 SizeValueType
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::WorkingMemory::GetPassBytes() const
-{
-  return Grouping.GetScratchBytes() + Groups.GroupOfComponent.capacity() * sizeof(RunLabeling::ComponentIndexType) +
-         Groups.GroupSize.capacity() * sizeof(SizeValueType) + RemovedAbove.capacity() + RemovedBelow.capacity() +
-         RemovedGroups.capacity() + Runs.capacity() * sizeof(LineRun) + Marks.capacity() +
-         Values.capacity() * sizeof(std::vector<OutputPixelType>) +
-         SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension>::GetValueBytes(Values);
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-SmallIsoComponentImageFilter<TInputImage, TOutputImage>::WorkingMemory::ReleaseMemory()
-{
-  Labeling.ReleaseMemory();
-  Grouping.ReleaseMemory();
-  Groups = BelowGrouping::Groups();
-  std::vector<uint8_t>().swap(RemovedAbove);
-  std::vector<uint8_t>().swap(RemovedBelow);
-  std::vector<uint8_t>().swap(RemovedGroups);
-  std::vector<LineRun>().swap(Runs);
-  std::vector<uint8_t>().swap(Marks);
-  std::vector<std::vector<OutputPixelType>>().swap(Values);
-}
-
-template <typename TInputImage, typename TOutputImage>
-SizeValueType
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GetWorkingMemoryInBytes() const
 {
   return m_Working->Labeling.GetMemoryInBytes() + m_Working->GetPassBytes();
