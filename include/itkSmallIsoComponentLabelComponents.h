@@ -24,6 +24,7 @@
 #include "itkSmallIsoComponentTuning.h"
 #include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 namespace itk
@@ -159,10 +160,7 @@ private:
     forEachLine([this, labels](SizeValueType line) {
       const TLabel * const row = labels + line * m_Length;
       RunIndex             runs = 1;
-      for (SizeValueType x = 1; x < m_Length; ++x)
-      {
-        runs += !(row[x] == row[x - 1]);
-      }
+      this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
       m_LineBegin[line + 1] = runs;
     });
     for (SizeValueType line = 0; line < lines; ++line)
@@ -176,15 +174,38 @@ private:
       RunIndex             run = m_LineBegin[line];
       m_Start[run] = 0;
       m_Label[run] = row[0];
-      for (SizeValueType x = 1; x < m_Length; ++x)
+      this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
+        m_Start[++run] = x;
+        m_Label[run] = row[x];
+      });
+    });
+  }
+
+  /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
+   * it. A block whose bytes equal those of the block one voxel before holds no run start: the
+   * library's vector compare skips it, so a voxel inside a long run costs a fraction of a
+   * compare. (Equal bytes mean equal labels: float maps are whole numbers, never NaN.) */
+  template <typename TFunction>
+  void
+  ForEachRunStart(const TLabel * row, TFunction && function) const
+  {
+    constexpr SizeValueType block = Tuning::LabelBlockBytes / sizeof(TLabel);
+    for (SizeValueType x = 1; x < m_Length;)
+    {
+      const SizeValueType end = std::min(m_Length, x + block);
+      if (end - x == block && std::memcmp(row + x, row + x - 1, Tuning::LabelBlockBytes) == 0)
+      {
+        x = end;
+        continue;
+      }
+      for (; x < end; ++x)
       {
         if (!(row[x] == row[x - 1]))
         {
-          m_Start[++run] = x;
-          m_Label[run] = row[x];
+          function(x);
         }
       }
-    });
+    }
   }
 
   void

@@ -59,6 +59,10 @@ constexpr SizeValueType NumberingLinesPerStep = 16;
  * append per buffer instead of one per run, with a buffer that stays cached. */
 constexpr SizeValueType CandidateBufferRuns = 256;
 
+/** Bytes of a label map's line compared at once for a change of label: more skips long runs
+ * faster, fewer wastes less on lines that change often. */
+constexpr SizeValueType LabelBlockBytes = 64;
+
 /** Runs per 64 voxels (over two lines) from which two lines are linked through their boundary
  * bits rather than by a merge of their runs. */
 constexpr SizeValueType BitsRunsPerWord = 6;
