@@ -66,7 +66,11 @@ LineNeighbors::LineNeighbors(const std::vector<SizeValueType> & size, bool fully
         highestMove = move;
       }
     }
-    if (neighbor.Moves.empty())
+    // A move along an axis of one line never stays inside; left in, its offset could even be
+    // positive for an "earlier" neighbour, as that axis's stride equals the next one's.
+    const bool alongSingleLine = std::any_of(
+      neighbor.Moves.begin(), neighbor.Moves.end(), [this](const auto & m) { return m_Extent[m.first] == 1; });
+    if (neighbor.Moves.empty() || alongSingleLine)
     {
       continue;
     }

@@ -26,6 +26,7 @@
 #include "gtest/gtest.h"
 
 #include <cstdlib>
+#include <algorithm>
 #include <set>
 #include <vector>
 
@@ -95,8 +96,11 @@ TEST(SmallIsoComponentLineNeighbors, EveryNeighbourOnceInOneToFourDimensions)
       const LineNeighbors     neighbors(size, fullyConnected);
       LineNeighbors::Position walked = neighbors.At(0);
       LineNeighbors::Position jumped;
+      SizeValueType           farthestEarlier = 0;
       for (SizeValueType line = 0; line < lines; ++line, neighbors.Next(walked))
       {
+        const std::multiset<SizeValueType> earlier = NaiveNeighbors(size, fullyConnected, line, true);
+        farthestEarlier = std::max(farthestEarlier, earlier.empty() ? 0 : line - *earlier.begin());
         // Jumps in a random order of lines are checked against the walk in order.
         const SizeValueType jumpLine = static_cast<SizeValueType>(random.Between(0, static_cast<int64_t>(lines) - 1));
         neighbors.MoveTo(jumped, jumpLine);
@@ -123,6 +127,9 @@ TEST(SmallIsoComponentLineNeighbors, EveryNeighbourOnceInOneToFourDimensions)
             << "dimension " << dimension << " jumped to line " << jumpLine << " full " << fullyConnected;
         }
       }
+      // Slab seams and line rings reach back this far: an axis of one line must not count.
+      EXPECT_EQ(neighbors.GetFarthestEarlier(), farthestEarlier)
+        << "dimension " << dimension << " full " << fullyConnected;
     }
   }
 }
