@@ -18,39 +18,17 @@
 #ifndef itkSmallIsoComponentLabelComponents_h
 #define itkSmallIsoComponentLabelComponents_h
 
-#include "itkMultiThreaderBase.h"
+#include "itkSmallIsoComponentLabelRuns.h"
 #include "itkSmallIsoComponentLineNeighbors.h"
 #include "itkSmallIsoComponentTouchingRuns.h"
-#include "itkSmallIsoComponentTuning.h"
 #include "itkSmallIsoComponentUnionFind.h"
 #include <algorithm>
-#include <cstring>
 #include <vector>
 
 namespace itk
 {
 namespace SmallIsoComponentDetail
 {
-/** Calls function(line) for every line of \a lines, in slabs of lines shared among the work units
- * of \a threader. */
-template <typename TFunction>
-void
-ForEachLineInSlabs(MultiThreaderBase * threader, SizeValueType lines, const TFunction & function)
-{
-  const SizeValueType slabs =
-    std::min<SizeValueType>(lines, SizeValueType{ threader->GetNumberOfWorkUnits() } * Tuning::SlabsPerWorkUnit);
-  threader->ParallelizeArray(
-    0,
-    slabs,
-    [&function, lines, slabs](SizeValueType slab) {
-      for (SizeValueType line = lines * slab / slabs; line < lines * (slab + 1) / slabs; ++line)
-      {
-        function(line);
-      }
-    },
-    nullptr);
-}
-
 /** \class LabelComponents
  * The components of a label image: each line's runs of one label, joined with the runs of
  * the same label they touch on neighbouring lines (LineNeighbors says which lines those are).
@@ -58,74 +36,59 @@ ForEachLineInSlabs(MultiThreaderBase * threader, SizeValueType lines, const TFun
  * holds the component's size.
  * \ingroup SmallIsoComponent */
 template <typename TLabel>
-class LabelComponents
+class LabelComponents : public LabelRuns<TLabel>
 {
 public:
-  using RunIndex = SizeValueType;
+  using RunIndex = typename LabelRuns<TLabel>::RunIndex;
 
   /** Finds the components of \a labels, an image of extent \a size with axis 0 fastest, with
-   * the work units of \a threader. */
+   * the work units of \a threader: each links and sizes the runs of its slab of lines, then the
+   * seams between the slabs are joined and the slabs' roots moved under the components' roots. */
   void
   Find(const TLabel *                     labels,
        const std::vector<SizeValueType> & size,
        bool                               fullyConnected,
        MultiThreaderBase *                threader)
   {
-    m_Length = size[0];
-    SizeValueType lines = 1;
-    for (std::size_t a = 1; a < size.size(); ++a)
+    this->Encode(labels, size, threader);
+    const SizeValueType lines = this->GetNumberOfLines();
+    const LineNeighbors neighbors(size, fullyConnected);
+    // One work unit links the whole image as one slab: no seams to join.
+    const unsigned int  workUnits = threader->GetNumberOfWorkUnits();
+    const SizeValueType slabs = workUnits > 1 ? SlabsFor(lines, workUnits) : std::min<SizeValueType>(lines, 1);
+    m_Parent.resize(this->GetNumberOfRuns());
+    m_Size.resize(this->GetNumberOfRuns());
+    m_SlabRoots.resize(slabs);
+    ForEachSlabOfLines(threader, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
+      this->LinkSlab(neighbors, fullyConnected, begin, end);
+      this->SizeSlab(begin, end, m_SlabRoots[slab]);
+    });
+    if (slabs > 1)
     {
-      lines *= size[a];
+      this->JoinSeams(neighbors, fullyConnected, lines, slabs);
+      ForEachSlabOfLines(threader, lines, slabs, [this](SizeValueType, SizeValueType begin, SizeValueType end) {
+        this->PointAtComponentRoots(begin, end);
+      });
     }
-    this->Encode(labels, lines, threader);
-    this->Link(LineNeighbors(size, fullyConnected), fullyConnected);
-    m_Size.assign(m_Start.size(), 0);
-    for (SizeValueType line = 0; line < lines; ++line)
+  }
+
+  /** Calls function(root) for the root of every component, in the order of the roots. */
+  template <typename TFunction>
+  void
+  ForEachComponent(TFunction && function) const
+  {
+    for (const std::vector<RunIndex> & roots : m_SlabRoots)
     {
-      for (RunIndex run = m_LineBegin[line]; run < m_LineBegin[line + 1]; ++run)
+      for (const RunIndex root : roots)
       {
-        m_Parent[run] = FindRoot(m_Parent.data(), run);
-        m_Size[m_Parent[run]] += this->End(run, line) - m_Start[run];
+        if (m_Parent[root] == root)
+        {
+          function(root);
+        }
       }
     }
   }
 
-  SizeValueType
-  GetNumberOfLines() const
-  {
-    return m_LineBegin.size() - 1;
-  }
-  SizeValueType
-  GetNumberOfRuns() const
-  {
-    return m_Start.size();
-  }
-  RunIndex
-  LineBegin(SizeValueType line) const
-  {
-    return m_LineBegin[line];
-  }
-  RunIndex
-  LineEnd(SizeValueType line) const
-  {
-    return m_LineBegin[line + 1];
-  }
-  SizeValueType
-  Start(RunIndex run) const
-  {
-    return m_Start[run];
-  }
-  /** Where \a run, a run of \a line, ends (one past its last voxel). */
-  SizeValueType
-  End(RunIndex run, SizeValueType line) const
-  {
-    return run + 1 < m_LineBegin[line + 1] ? m_Start[run + 1] : m_Length;
-  }
-  TLabel
-  Label(RunIndex run) const
-  {
-    return m_Label[run];
-  }
   /** The root of \a run's component. */
   RunIndex
   Component(RunIndex run) const
@@ -138,109 +101,122 @@ public:
   {
     return m_Size[root];
   }
-  /** The run of \a line that holds voxel \a x. */
-  RunIndex
-  RunAt(SizeValueType line, SizeValueType x) const
-  {
-    const auto first = m_Start.begin() + static_cast<std::ptrdiff_t>(m_LineBegin[line]);
-    const auto last = m_Start.begin() + static_cast<std::ptrdiff_t>(m_LineBegin[line + 1]);
-    return static_cast<RunIndex>(std::upper_bound(first, last, x) - m_Start.begin()) - 1;
-  }
 
 private:
-  /** Each line's runs: counted, then written where the counts put them, both in slabs of
-   * lines shared among the work units. */
+  /** Joins the runs of \a line with the runs of the same label they touch on line \a earlier. */
   void
-  Encode(const TLabel * labels, SizeValueType lines, MultiThreaderBase * threader)
+  JoinLines(SizeValueType line, SizeValueType earlier, bool fullyConnected)
   {
-    const auto forEachLine = [threader, lines](const auto & lineFunction) {
-      ForEachLineInSlabs(threader, lines, lineFunction);
-    };
-    m_LineBegin.assign(lines + 1, 0);
-    forEachLine([this, labels](SizeValueType line) {
-      const TLabel * const row = labels + line * m_Length;
-      RunIndex             runs = 1;
-      this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
-      m_LineBegin[line + 1] = runs;
-    });
-    for (SizeValueType line = 0; line < lines; ++line)
-    {
-      m_LineBegin[line + 1] += m_LineBegin[line];
-    }
-    m_Start.resize(m_LineBegin[lines]);
-    m_Label.resize(m_LineBegin[lines]);
-    forEachLine([this, labels](SizeValueType line) {
-      const TLabel * const row = labels + line * m_Length;
-      RunIndex             run = m_LineBegin[line];
-      m_Start[run] = 0;
-      m_Label[run] = row[0];
-      this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
-        m_Start[++run] = x;
-        m_Label[run] = row[x];
-      });
-    });
+    JoinTouchingRuns(
+      this->GetStarts(),
+      this->LineBegin(line),
+      this->LineEnd(line) - 1,
+      this->LineBegin(earlier),
+      this->LineEnd(earlier) - 1,
+      this->GetLineLength(),
+      fullyConnected,
+      [this](RunIndex a, RunIndex b) { return this->Label(a) == this->Label(b); },
+      [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); });
   }
 
-  /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
-   * it. A block whose bytes equal those of the block one voxel before holds no run start: the
-   * library's vector compare skips it, so a voxel inside a long run costs a fraction of a
-   * compare. (Equal bytes mean equal labels: float maps are whole numbers, never NaN.) */
-  template <typename TFunction>
+  /** Links the runs of the lines [begin, end) with each other, touching no other run. */
   void
-  ForEachRunStart(const TLabel * row, TFunction && function) const
+  LinkSlab(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType begin, SizeValueType end)
   {
-    constexpr SizeValueType block = Tuning::LabelBlockBytes / sizeof(TLabel);
-    for (SizeValueType x = 1; x < m_Length;)
+    for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
     {
-      const SizeValueType end = std::min(m_Length, x + block);
-      if (end - x == block && std::memcmp(row + x, row + x - 1, Tuning::LabelBlockBytes) == 0)
-      {
-        x = end;
-        continue;
-      }
-      for (; x < end; ++x)
-      {
-        if (!(row[x] == row[x - 1]))
+      m_Parent[run] = run;
+    }
+    LineNeighbors::Position position = neighbors.At(begin);
+    for (SizeValueType line = begin; line < end; ++line, neighbors.Next(position))
+    {
+      neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+        if (earlier >= begin)
         {
-          function(x);
+          this->JoinLines(line, earlier, fullyConnected);
+        }
+      });
+    }
+  }
+
+  /** Points every run of the lines [begin, end) at its root in the slab and adds its voxels to
+   * the root's size; lists the slab's roots in \a roots. A run's parent is an earlier run, so
+   * it points at its root already when the run's turn comes. */
+  void
+  SizeSlab(SizeValueType begin, SizeValueType end, std::vector<RunIndex> & roots)
+  {
+    roots.clear();
+    for (SizeValueType line = begin; line < end; ++line)
+    {
+      for (RunIndex run = this->LineBegin(line); run < this->LineEnd(line); ++run)
+      {
+        const RunIndex root = m_Parent[m_Parent[run]];
+        m_Parent[run] = root;
+        if (root == run)
+        {
+          roots.push_back(run);
+          m_Size[run] = 0;
+        }
+        m_Size[root] += this->End(run, line) - this->Start(run);
+      }
+    }
+  }
+
+  /** Points every run of the lines [begin, end) at its component's root. Its parent is a slab's
+   * root, which points there already; a run is written only when that changes it, so that no
+   * slab's root, which the runs of other slabs read, is written. */
+  void
+  PointAtComponentRoots(SizeValueType begin, SizeValueType end)
+  {
+    for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
+    {
+      const RunIndex root = m_Parent[m_Parent[run]];
+      if (root != m_Parent[run])
+      {
+        m_Parent[run] = root;
+      }
+    }
+  }
+
+  /** Joins the runs of each slab's first lines with those of the lines before the slab, then
+   * points each slab's root at its component's root, adding the sizes up there. Every parent is
+   * a slab's root, and an earlier run: in the order of the runs, a root's parent is already the
+   * component's root when its turn comes. */
+  void
+  JoinSeams(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType lines, SizeValueType slabs)
+  {
+    for (SizeValueType slab = 1; slab < slabs; ++slab)
+    {
+      const SizeValueType begin = SlabBeginLine(lines, slabs, slab);
+      const SizeValueType end = std::min(SlabBeginLine(lines, slabs, slab + 1), begin + neighbors.GetFarthestEarlier());
+      LineNeighbors::Position position = neighbors.At(begin);
+      for (SizeValueType line = begin; line < end; ++line, neighbors.Next(position))
+      {
+        neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+          if (earlier < begin)
+          {
+            this->JoinLines(line, earlier, fullyConnected);
+          }
+        });
+      }
+    }
+    for (const std::vector<RunIndex> & roots : m_SlabRoots)
+    {
+      for (const RunIndex slabRoot : roots)
+      {
+        const RunIndex root = m_Parent[m_Parent[slabRoot]];
+        if (root != slabRoot)
+        {
+          m_Parent[slabRoot] = root;
+          m_Size[root] += m_Size[slabRoot];
         }
       }
     }
   }
 
-  void
-  Link(const LineNeighbors & neighbors, bool fullyConnected)
-  {
-    m_Parent.resize(m_Start.size());
-    for (RunIndex run = 0; run < m_Parent.size(); ++run)
-    {
-      m_Parent[run] = run;
-    }
-    const auto              same = [this](RunIndex a, RunIndex b) { return m_Label[a] == m_Label[b]; };
-    const auto              join = [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); };
-    LineNeighbors::Position position = neighbors.At(0);
-    for (SizeValueType line = 0; line + 1 < m_LineBegin.size(); ++line, neighbors.Next(position))
-    {
-      neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
-        JoinTouchingRuns(m_Start.data(),
-                         m_LineBegin[line],
-                         m_LineBegin[line + 1] - 1,
-                         m_LineBegin[earlier],
-                         m_LineBegin[earlier + 1] - 1,
-                         m_Length,
-                         fullyConnected,
-                         same,
-                         join);
-      });
-    }
-  }
-
-  SizeValueType              m_Length{ 0 };
-  std::vector<RunIndex>      m_LineBegin;
-  std::vector<SizeValueType> m_Start;
-  std::vector<TLabel>        m_Label;
-  std::vector<RunIndex>      m_Parent;
-  std::vector<SizeValueType> m_Size;
+  std::vector<RunIndex>              m_Parent;
+  std::vector<SizeValueType>         m_Size;
+  std::vector<std::vector<RunIndex>> m_SlabRoots;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

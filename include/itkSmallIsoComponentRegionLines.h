@@ -19,7 +19,7 @@
 #define itkSmallIsoComponentRegionLines_h
 
 #include "itkImageRegion.h"
-#include "itkSmallIsoComponentLabelComponents.h"
+#include "itkSmallIsoComponentLineSlabs.h"
 #include <algorithm>
 
 namespace itk

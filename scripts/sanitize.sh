@@ -31,9 +31,10 @@ case "$kind" in
     sanitizer=thread
     # The tests that run work units in parallel: the differential tests (1, 2 and 7 work
     # units per volume, and the sweep in slabs with its labelling thread), the invariants (the
-    # output for several numbers of work units), the work team, and the streaming sweep and
-    # filter (two work units: a slab labelled while the one before is merged).
-    selection=(-R 'SmallIsoComponent(Differential|WorkTeam|Invariants|StreamingSweep|StreamingImageFilter)\.' --timeout 3600)
+    # output for several numbers of work units), the work team, the streaming sweep and
+    # filter (two work units: a slab labelled while the one before is merged), and the label
+    # filter (1 to 7 work units, each linking and repairing slabs of lines).
+    selection=(-R 'SmallIsoComponent(Differential|WorkTeam|Invariants|StreamingSweep|StreamingImageFilter|LabelImageFilter)\.' --timeout 3600)
     targets=SmallIsoComponentGTestDriver
     ;;
   *)
