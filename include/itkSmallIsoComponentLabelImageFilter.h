@@ -19,7 +19,7 @@
 #define itkSmallIsoComponentLabelImageFilter_h
 
 #include "itkInPlaceImageFilter.h"
-#include "itkSmallIsoComponentLabelComponents.h"
+#include "itkSmallIsoComponentLabelRepair.h"
 #include "itkSmallIsoComponentRegionLines.h"
 #include <map>
 #include <ostream>
@@ -220,18 +220,7 @@ protected:
 private:
   using Components = SmallIsoComponentDetail::LabelComponents<LabelType>;
   using RunIndex = typename Components::RunIndex;
-  struct Vote
-  {
-    LabelType     Label;
-    SizeValueType Steps;
-    bool          Kept;
-  };
-  /** A removed voxel's new label, at its offset in the output's buffer. */
-  struct Repair
-  {
-    SizeValueType Offset;
-    LabelType     Label;
-  };
+  using Repair = SmallIsoComponentDetail::LabelRepair<LabelType, ImageDimension>;
 
   /** Throws unless every sample of \a labels, the voxels of \a region, is a whole number. */
   void
@@ -239,39 +228,15 @@ private:
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
-  /** The output and the mask: \a labels, the voxels of \a region, with \a repairs, in the
+  /** The output and the mask: \a labels, the voxels of \a region, with the repairs, in the
    * output's region. */
   void
-  WriteOutputs(const LabelType * labels, const RegionType & region, const std::vector<Repair> & repairs);
-  /** Calls function(line, run, begin, end, offset) for the part [begin, end) of each run of a
-   * removed component that lies in \a outputRegion, a region inside \a region: \a run is a run
-   * of line \a line of \a region's buffer, and offset is that of voxel begin in the output's
-   * buffer. */
-  template <typename TFunction>
-  void
-  ForEachRemovedRunInOutput(const RegionType & region, const RegionType & outputRegion, TFunction && function) const;
+  WriteOutputs(const LabelType * labels, const RegionType & region);
   bool
   IsSelected(LabelType label) const;
   /** Which components are removed (m_Removed, at their roots), with the statistics. */
   void
   DecideRemovals();
-  /** The new label of every removed voxel of \a outputRegion, the output's region, from \a input,
-   * the voxels of \a region. The halo's removed voxels are not written, so they are not repaired
-   * and the counts are those of the output's voxels. */
-  std::vector<Repair>
-  RepairRemoved(const LabelType * input, const RegionType & region, const RegionType & outputRegion);
-  /** The votes of the walks from voxel \a x of \a run, a run of \a line at \a coordinates. */
-  void
-  CollectVotes(const LabelType *                  input,
-               const SizeType &                   size,
-               SizeValueType                      line,
-               const std::vector<SizeValueType> & coordinates,
-               RunIndex                           run,
-               SizeValueType                      x,
-               std::vector<Vote> &                votes) const;
-  /** The winning label of \a votes (not empty). */
-  static LabelType
-  Elect(const std::vector<Vote> & votes);
   void
   StopIfAborted() const;
 
@@ -287,6 +252,7 @@ private:
   bool                   m_GenerateRemovedMask{ false };
 
   Components             m_Components;
+  Repair                 m_Repair;
   std::vector<LabelType> m_Part;
   std::vector<uint8_t>   m_Removed;
   LabelStatisticsMapType m_LabelStatistics;

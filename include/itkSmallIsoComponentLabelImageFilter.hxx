@@ -238,18 +238,14 @@ SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
 {
   std::map<LabelType, std::vector<SizeValueType>> sizes;
   m_LabelStatistics.clear();
-  for (RunIndex run = 0; run < m_Components.GetNumberOfRuns(); ++run)
-  {
-    if (m_Components.Component(run) == run)
-    {
-      const LabelType     label = m_Components.Label(run);
-      const SizeValueType size = m_Components.Size(run);
-      LabelStatistics &   statistics = m_LabelStatistics[label];
-      ++statistics.Components;
-      ++statistics.Histogram[size];
-      sizes[label].push_back(size);
-    }
-  }
+  m_Components.ForEachComponent([&](RunIndex root) {
+    const LabelType     label = m_Components.Label(root);
+    const SizeValueType size = m_Components.Size(root);
+    LabelStatistics &   statistics = m_LabelStatistics[label];
+    ++statistics.Components;
+    ++statistics.Histogram[size];
+    sizes[label].push_back(size);
+  });
   // The size a selected label's components must reach to stay under KeepLargestComponents.
   std::map<LabelType, SizeValueType> smallestKept;
   for (auto & entry : sizes)
@@ -263,142 +259,23 @@ SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
     }
   }
   m_Removed.assign(m_Components.GetNumberOfRuns(), 0);
-  for (RunIndex run = 0; run < m_Components.GetNumberOfRuns(); ++run)
-  {
-    const LabelType label = m_Components.Label(run);
-    if (m_Components.Component(run) != run || !this->IsSelected(label))
+  m_Components.ForEachComponent([&](RunIndex root) {
+    const LabelType label = m_Components.Label(root);
+    if (!this->IsSelected(label))
     {
-      continue;
+      return;
     }
     const auto          ownK = m_MaximumComponentSizes.find(label);
     const SizeValueType k = ownK != m_MaximumComponentSizes.end() ? ownK->second : m_EffectiveMaximumComponentSize;
     const auto          kept = smallestKept.find(label);
-    const SizeValueType size = m_Components.Size(run);
+    const SizeValueType size = m_Components.Size(root);
     if (size <= k || (kept != smallestKept.end() && size < kept->second))
     {
-      m_Removed[run] = 1;
+      m_Removed[root] = 1;
       ++m_LabelStatistics[label].RemovedComponents;
       m_LabelStatistics[label].RemovedVoxels += size;
     }
-  }
-}
-
-template <typename TImage>
-void
-SmallIsoComponentLabelImageFilter<TImage>::CollectVotes(const LabelType *                  input,
-                                                        const SizeType &                   size,
-                                                        SizeValueType                      line,
-                                                        const std::vector<SizeValueType> & coordinates,
-                                                        RunIndex                           run,
-                                                        SizeValueType                      x,
-                                                        std::vector<Vote> &                votes) const
-{
-  // Along a line the walks leave the run at its ends; along the other axes they pass voxels of
-  // the component's label, which are all in the component, up to the first other label.
-  const auto vote = [this, &votes](RunIndex at, SizeValueType steps) {
-    votes.push_back({ m_Components.Label(at), steps, !m_Removed[m_Components.Component(at)] });
-  };
-  votes.clear();
-  const SizeValueType start = m_Components.Start(run);
-  const SizeValueType end = m_Components.End(run, line);
-  if (start > 0)
-  {
-    vote(run - 1, x - start + 1);
-  }
-  if (end < size[0])
-  {
-    vote(run + 1, end - x);
-  }
-  const LabelType label = m_Components.Label(run);
-  SizeValueType   lineStride = 1;
-  for (unsigned int a = 1; a < ImageDimension; ++a)
-  {
-    for (const int direction : { -1, 1 })
-    {
-      SizeValueType other = line;
-      for (SizeValueType steps = 1; direction < 0 ? coordinates[a] >= steps : coordinates[a] + steps < size[a]; ++steps)
-      {
-        other = direction < 0 ? other - lineStride : other + lineStride;
-        if (!(input[other * size[0] + x] == label))
-        {
-          vote(m_Components.RunAt(other, x), steps);
-          break;
-        }
-      }
-    }
-    lineStride *= size[a];
-  }
-}
-
-template <typename TImage>
-auto
-SmallIsoComponentLabelImageFilter<TImage>::Elect(const std::vector<Vote> & votes) -> LabelType
-{
-  const bool anyKept = std::any_of(votes.begin(), votes.end(), [](const Vote & vote) { return vote.Kept; });
-  bool       found = false;
-  LabelType  best{};
-  std::pair<SizeValueType, SizeValueType> bestRank{ 0, 0 };
-  for (const Vote & candidate : votes)
-  {
-    if (anyKept && !candidate.Kept)
-    {
-      continue;
-    }
-    // Rank: the most votes, then the nearest voter, then the smallest label.
-    SizeValueType count = 0;
-    SizeValueType nearest = NumericTraits<SizeValueType>::max();
-    for (const Vote & vote : votes)
-    {
-      if ((vote.Kept || !anyKept) && vote.Label == candidate.Label)
-      {
-        ++count;
-        nearest = std::min(nearest, vote.Steps);
-      }
-    }
-    const std::pair<SizeValueType, SizeValueType> rank{ count, NumericTraits<SizeValueType>::max() - nearest };
-    if (!found || rank > bestRank || (rank == bestRank && candidate.Label < best))
-    {
-      found = true;
-      best = candidate.Label;
-      bestRank = rank;
-    }
-  }
-  return best;
-}
-
-template <typename TImage>
-auto
-SmallIsoComponentLabelImageFilter<TImage>::RepairRemoved(const LabelType *  input,
-                                                         const RegionType & region,
-                                                         const RegionType & outputRegion) -> std::vector<Repair>
-{
-  std::vector<Repair>        repairs;
-  std::vector<Vote>          votes;
-  std::vector<SizeValueType> coordinates(ImageDimension, 0);
-  const SizeType             size = region.GetSize();
-  this->ForEachRemovedRunInOutput(
-    region,
-    outputRegion,
-    [&](SizeValueType line, RunIndex run, SizeValueType begin, SizeValueType end, SizeValueType inOutput) {
-      const IndexType first = SmallIsoComponentDetail::IndexOfLine(region, line);
-      for (unsigned int a = 1; a < ImageDimension; ++a)
-      {
-        coordinates[a] = static_cast<SizeValueType>(first[a] - region.GetIndex(a));
-      }
-      for (SizeValueType x = begin; x < end; ++x)
-      {
-        this->CollectVotes(input, size, line, coordinates, run, x, votes);
-        if (votes.empty())
-        {
-          ++m_NumberOfUnrepairableVoxels;
-          continue;
-        }
-        const LabelType label = Elect(votes);
-        ++m_LabelStatistics[label].GainedVoxels;
-        repairs.push_back({ inOutput + x - begin, label });
-      }
-    });
-  return repairs;
+  });
 }
 
 template <typename TImage>
@@ -415,49 +292,6 @@ SmallIsoComponentLabelImageFilter<TImage>::ComputeEffectiveMaximumComponentSize(
     voxelVolume *= spacing[a];
   }
   return SmallIsoComponentDetail::ComponentRules::MaximumSizeForVolume(m_MaximumComponentVolume, voxelVolume);
-}
-
-template <typename TImage>
-template <typename TFunction>
-void
-SmallIsoComponentLabelImageFilter<TImage>::ForEachRemovedRunInOutput(const RegionType & region,
-                                                                     const RegionType & outputRegion,
-                                                                     TFunction &&       function) const
-{
-  // Lines are visited in the buffer's order and placed in the output only at their first
-  // removed run: removed runs are few, so most lines cost no index arithmetic.
-  const SizeValueType first = static_cast<SizeValueType>(outputRegion.GetIndex(0) - region.GetIndex(0));
-  const SizeValueType last = first + outputRegion.GetSize(0);
-  for (SizeValueType line = 0; line < m_Components.GetNumberOfLines(); ++line)
-  {
-    bool          placed = false;
-    SizeValueType lineInOutput = 0;
-    for (RunIndex run = m_Components.LineBegin(line); run < m_Components.LineEnd(line); ++run)
-    {
-      if (!m_Removed[m_Components.Component(run)])
-      {
-        continue;
-      }
-      const SizeValueType begin = std::max(first, m_Components.Start(run));
-      const SizeValueType end = std::min(last, m_Components.End(run, line));
-      if (begin >= end)
-      {
-        continue;
-      }
-      if (!placed)
-      {
-        IndexType index = SmallIsoComponentDetail::IndexOfLine(region, line);
-        index[0] = outputRegion.GetIndex(0);
-        if (!outputRegion.IsInside(index))
-        {
-          break;
-        }
-        placed = true;
-        lineInOutput = SmallIsoComponentDetail::OffsetOf(outputRegion, index);
-      }
-      function(line, run, begin, end, lineInOutput + begin - first);
-    }
-  }
 }
 
 template <typename TImage>
@@ -487,18 +321,22 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals();
-  const std::vector<Repair> repairs = this->RepairRemoved(labels, region, this->GetOutput()->GetBufferedRegion());
+  m_Repair.Compute(
+    labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), this->GetMultiThreader());
+  for (const auto & gained : m_Repair.GetGainedVoxels())
+  {
+    m_LabelStatistics[gained.first].GainedVoxels += gained.second;
+  }
+  m_NumberOfUnrepairableVoxels = m_Repair.GetNumberOfUnrepairableVoxels();
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
-  this->WriteOutputs(labels, region, repairs);
+  this->WriteOutputs(labels, region);
   this->UpdateProgress(1.0f);
 }
 
 template <typename TImage>
 void
-SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *           labels,
-                                                        const RegionType &          region,
-                                                        const std::vector<Repair> & repairs)
+SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType * labels, const RegionType & region)
 {
   ImageType *      output = this->GetOutput();
   const RegionType outputRegion = output->GetBufferedRegion();
@@ -508,20 +346,20 @@ SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *       
     SmallIsoComponentDetail::CopyLines(
       labels, region, outputBuffer, outputRegion, outputRegion, this->GetMultiThreader());
   }
-  for (const Repair & repair : repairs)
-  {
-    outputBuffer[repair.Offset] = repair.Label;
-  }
-  m_NumberOfModifiedVoxels = repairs.size();
+  m_Repair.ForEachRepair(
+    [outputBuffer](const typename Repair::Repair & repair) { outputBuffer[repair.Offset] = repair.Label; });
+  m_NumberOfModifiedVoxels = m_Repair.GetNumberOfRepairs();
   if (m_GenerateRemovedMask)
   {
     uint8_t * const mask = this->GetRemovedMask()->GetBufferPointer();
-    this->ForEachRemovedRunInOutput(
-      region,
-      outputRegion,
-      [mask](SizeValueType, RunIndex, SizeValueType begin, SizeValueType end, SizeValueType inOutput) {
-        std::fill(mask + inOutput, mask + inOutput + (end - begin), 1);
-      });
+    Repair::ForEachRemovedRunInOutput(m_Components,
+                                      m_Removed,
+                                      region,
+                                      outputRegion,
+                                      this->GetMultiThreader(),
+                                      [mask](SizeValueType, const typename Repair::RunInOutput & part) {
+                                        std::fill(mask + part.Offset + part.Begin, mask + part.Offset + part.End, 1);
+                                      });
   }
 }
 
