@@ -42,31 +42,28 @@ public:
   using RunIndex = typename LabelRuns<TLabel>::RunIndex;
 
   /** Finds the components of \a labels, an image of extent \a size with axis 0 fastest, with
-   * the work units of \a threader: each links and sizes the runs of its slab of lines, then the
+   * the members of \a team: each links and sizes the runs of its slab of lines, then the
    * seams between the slabs are joined and the slabs' roots moved under the components' roots. */
   void
-  Find(const TLabel *                     labels,
-       const std::vector<SizeValueType> & size,
-       bool                               fullyConnected,
-       MultiThreaderBase *                threader)
+  Find(const TLabel * labels, const std::vector<SizeValueType> & size, bool fullyConnected, WorkTeam & team)
   {
-    this->Encode(labels, size, threader);
+    this->Encode(labels, size, team);
     const SizeValueType lines = this->GetNumberOfLines();
     const LineNeighbors neighbors(size, fullyConnected);
     // One work unit links the whole image as one slab: no seams to join.
-    const unsigned int  workUnits = threader->GetNumberOfWorkUnits();
-    const SizeValueType slabs = workUnits > 1 ? SlabsFor(lines, workUnits) : std::min<SizeValueType>(lines, 1);
+    const SizeValueType slabs =
+      team.GetNumberOfWorkUnits() > 1 ? SlabsFor(lines, team) : std::min<SizeValueType>(lines, 1);
     m_Parent.resize(this->GetNumberOfRuns());
     m_Size.resize(this->GetNumberOfRuns());
     m_SlabRoots.resize(slabs);
-    ForEachSlabOfLines(threader, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
+    ForEachSlabOfLines(team, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
       this->LinkSlab(neighbors, fullyConnected, begin, end);
       this->SizeSlab(begin, end, m_SlabRoots[slab]);
     });
     if (slabs > 1)
     {
       this->JoinSeams(neighbors, fullyConnected, lines, slabs);
-      ForEachSlabOfLines(threader, lines, slabs, [this](SizeValueType, SizeValueType begin, SizeValueType end) {
+      ForEachSlabOfLines(team, lines, slabs, [this](SizeValueType, SizeValueType begin, SizeValueType end) {
         this->PointAtComponentRoots(begin, end);
       });
     }

@@ -229,9 +229,9 @@ private:
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
   /** The output and the mask: \a labels, the voxels of \a region, with the repairs, in the
-   * output's region. */
+   * output's region, written by the members of \a team. */
   void
-  WriteOutputs(const LabelType * labels, const RegionType & region);
+  WriteOutputs(const LabelType * labels, const RegionType & region, SmallIsoComponentDetail::WorkTeam & team);
   bool
   IsSelected(LabelType label) const;
   /** Which components are removed (m_Removed, at their roots), with the statistics. */

@@ -188,10 +188,6 @@ SmallIsoComponentLabelImageFilter<TImage>::AllocateOutputs()
     mask->SetRequestedRegion(none);
   }
   Superclass::AllocateOutputs();
-  if (m_GenerateRemovedMask)
-  {
-    mask->FillBuffer(0);
-  }
 }
 
 template <typename TImage>
@@ -298,7 +294,10 @@ template <typename TImage>
 void
 SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
 {
-  const ImageType * input = this->GetInput();
+  // Formed first, so that its helpers wake up while the part is read.
+  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  SmallIsoComponentDetail::WorkTeam team(this->GetMultiThreader(), this->GetNumberOfWorkUnits());
+  const ImageType *                 input = this->GetInput();
   // The part read: the output's region and its halo, or the whole image.
   const RegionType  region = input->GetRequestedRegion();
   const LabelType * labels = input->GetBufferPointer();
@@ -316,13 +315,11 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
 
   const SizeType                   size = region.GetSize();
   const std::vector<SizeValueType> extent(size.begin(), size.end());
-  this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  m_Components.Find(labels, extent, m_FullyConnected, this->GetMultiThreader());
+  m_Components.Find(labels, extent, m_FullyConnected, team);
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals();
-  m_Repair.Compute(
-    labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), this->GetMultiThreader());
+  m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), team);
   for (const auto & gained : m_Repair.GetGainedVoxels())
   {
     m_LabelStatistics[gained.first].GainedVoxels += gained.second;
@@ -330,33 +327,39 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   m_NumberOfUnrepairableVoxels = m_Repair.GetNumberOfUnrepairableVoxels();
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
-  this->WriteOutputs(labels, region);
+  this->WriteOutputs(labels, region, team);
   this->UpdateProgress(1.0f);
 }
 
 template <typename TImage>
 void
-SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType * labels, const RegionType & region)
+SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *                   labels,
+                                                        const RegionType &                  region,
+                                                        SmallIsoComponentDetail::WorkTeam & team)
 {
   ImageType *      output = this->GetOutput();
   const RegionType outputRegion = output->GetBufferedRegion();
   LabelType *      outputBuffer = output->GetBufferPointer();
   if (outputBuffer != labels)
   {
-    SmallIsoComponentDetail::CopyLines(
-      labels, region, outputBuffer, outputRegion, outputRegion, this->GetMultiThreader());
+    SmallIsoComponentDetail::CopyLines(labels, region, outputBuffer, outputRegion, outputRegion, &team);
   }
   m_Repair.ForEachRepair(
     [outputBuffer](const typename Repair::Repair & repair) { outputBuffer[repair.Offset] = repair.Label; });
   m_NumberOfModifiedVoxels = m_Repair.GetNumberOfRepairs();
   if (m_GenerateRemovedMask)
   {
-    uint8_t * const mask = this->GetRemovedMask()->GetBufferPointer();
+    uint8_t * const     mask = this->GetRemovedMask()->GetBufferPointer();
+    const SizeValueType length = outputRegion.GetSize(0);
+    SmallIsoComponentDetail::ForEachLineInSlabs(
+      team, SmallIsoComponentDetail::NumberOfLines(outputRegion), [mask, length](SizeValueType line) {
+        std::fill_n(mask + line * length, length, 0);
+      });
     Repair::ForEachRemovedRunInOutput(m_Components,
                                       m_Removed,
                                       region,
                                       outputRegion,
-                                      this->GetMultiThreader(),
+                                      team,
                                       [mask](SizeValueType, const typename Repair::RunInOutput & part) {
                                         std::fill(mask + part.Offset + part.Begin, mask + part.Offset + part.End, 1);
                                       });

@@ -65,7 +65,7 @@ public:
 
   /** Calls function(slab, part) for the part in \a outputRegion of each run of \a components,
    * runs of \a region, whose component is flagged in \a removed (at its root), in slabs of lines
-   * shared among the work units of \a threader. Lines are placed in the output only at their
+   * shared among the members of \a team. Lines are placed in the output only at their
    * first removed run: removed runs are few, so most lines cost no index arithmetic. */
   template <typename TFunction>
   static void
@@ -73,47 +73,47 @@ public:
                             const std::vector<uint8_t> & removed,
                             const RegionType &           region,
                             const RegionType &           outputRegion,
-                            MultiThreaderBase *          threader,
+                            WorkTeam &                   team,
                             const TFunction &            function)
   {
     const SizeValueType first = static_cast<SizeValueType>(outputRegion.GetIndex(0) - region.GetIndex(0));
     const SizeValueType last = first + outputRegion.GetSize(0);
     const SizeValueType lines = components.GetNumberOfLines();
-    const SizeValueType slabs = SlabsFor(lines, threader->GetNumberOfWorkUnits());
-    ForEachSlabOfLines(threader, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
-      for (SizeValueType line = begin; line < end; ++line)
-      {
-        RunInOutput part{ line, {}, 0, 0, 0, 0 };
-        bool        placed = false;
-        for (RunIndex run = components.LineBegin(line); run < components.LineEnd(line); ++run)
+    ForEachSlabOfLines(
+      team, lines, SlabsFor(lines, team), [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
+        for (SizeValueType line = begin; line < end; ++line)
         {
-          if (!removed[components.Component(run)])
+          RunInOutput part{ line, {}, 0, 0, 0, 0 };
+          bool        placed = false;
+          for (RunIndex run = components.LineBegin(line); run < components.LineEnd(line); ++run)
           {
-            continue;
-          }
-          part.Run = run;
-          part.Begin = std::max(first, components.Start(run));
-          part.End = std::min(last, components.End(run, line));
-          if (part.Begin >= part.End)
-          {
-            continue;
-          }
-          if (!placed)
-          {
-            part.LineIndex = IndexOfLine(region, line);
-            IndexType inOutput = part.LineIndex;
-            inOutput[0] = outputRegion.GetIndex(0);
-            if (!outputRegion.IsInside(inOutput))
+            if (!removed[components.Component(run)])
             {
-              break;
+              continue;
             }
-            placed = true;
-            part.Offset = OffsetOf(outputRegion, inOutput) - first;
+            part.Run = run;
+            part.Begin = std::max(first, components.Start(run));
+            part.End = std::min(last, components.End(run, line));
+            if (part.Begin >= part.End)
+            {
+              continue;
+            }
+            if (!placed)
+            {
+              part.LineIndex = IndexOfLine(region, line);
+              IndexType inOutput = part.LineIndex;
+              inOutput[0] = outputRegion.GetIndex(0);
+              if (!outputRegion.IsInside(inOutput))
+              {
+                break;
+              }
+              placed = true;
+              part.Offset = OffsetOf(outputRegion, inOutput) - first;
+            }
+            function(slab, part);
           }
-          function(slab, part);
         }
-      }
-    });
+      });
   }
 
   /** Finds the new label of every removed voxel of \a outputRegion from \a input, the voxels of
@@ -125,9 +125,9 @@ public:
           const std::vector<uint8_t> & removed,
           const RegionType &           region,
           const RegionType &           outputRegion,
-          MultiThreaderBase *          threader)
+          WorkTeam &                   team)
   {
-    m_Slabs.resize(SlabsFor(components.GetNumberOfLines(), threader->GetNumberOfWorkUnits()));
+    m_Slabs.resize(SlabsFor(components.GetNumberOfLines(), team));
     for (Slab & slab : m_Slabs)
     {
       slab.Repairs.clear();
@@ -136,7 +136,7 @@ public:
     }
     const Walks walks{ input, components, removed, region.GetSize() };
     ForEachRemovedRunInOutput(
-      components, removed, region, outputRegion, threader, [&](SizeValueType slabIndex, const RunInOutput & part) {
+      components, removed, region, outputRegion, team, [&](SizeValueType slabIndex, const RunInOutput & part) {
         Slab & slab = m_Slabs[slabIndex];
         for (SizeValueType x = part.Begin; x < part.End; ++x)
         {

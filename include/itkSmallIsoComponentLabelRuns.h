@@ -40,9 +40,9 @@ public:
 
   /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest: each line's
    * runs counted, then written where the counts put them, both in slabs of lines shared among
-   * the work units of \a threader. */
+   * the members of \a team. */
   void
-  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, MultiThreaderBase * threader)
+  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team)
   {
     m_Length = size[0];
     SizeValueType lines = 1;
@@ -50,8 +50,8 @@ public:
     {
       lines *= size[a];
     }
-    const auto forEachLine = [threader, lines](const auto & lineFunction) {
-      ForEachLineInSlabs(threader, lines, lineFunction);
+    const auto forEachLine = [&team, lines](const auto & lineFunction) {
+      ForEachLineInSlabs(team, lines, lineFunction);
     };
     m_LineBegin.assign(lines + 1, 0);
     forEachLine([this, labels](SizeValueType line) {

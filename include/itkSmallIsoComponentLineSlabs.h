@@ -18,10 +18,8 @@
 #ifndef itkSmallIsoComponentLineSlabs_h
 #define itkSmallIsoComponentLineSlabs_h
 
-#include "itkMultiThreaderBase.h"
-#include "itkSmallIsoComponentTuning.h"
+#include "itkSmallIsoComponentWorkTeam.h"
 #include <algorithm>
-#include <atomic>
 
 namespace itk
 {
@@ -37,48 +35,36 @@ SlabBeginLine(SizeValueType lines, SizeValueType slabs, SizeValueType slab)
 }
 
 /** Calls function(slab, begin, end) for each of \a slabs slabs of consecutive lines [begin, end)
- * covering \a lines lines. The work units of \a threader take the slabs one at a time, so that
- * slabs of more work than others do not leave a work unit idle. */
+ * covering \a lines lines, each slab taken by the next free member of \a team. */
 template <typename TFunction>
 void
-ForEachSlabOfLines(MultiThreaderBase * threader, SizeValueType lines, SizeValueType slabs, const TFunction & function)
+ForEachSlabOfLines(WorkTeam & team, SizeValueType lines, SizeValueType slabs, const TFunction & function)
 {
-  std::atomic<SizeValueType> next{ 0 };
-  const SizeValueType        workUnits = std::min<SizeValueType>(slabs, threader->GetNumberOfWorkUnits());
-  threader->ParallelizeArray(
-    0,
-    workUnits,
-    [&function, &next, lines, slabs](SizeValueType) {
-      for (SizeValueType slab = next++; slab < slabs; slab = next++)
-      {
-        function(slab, SlabBeginLine(lines, slabs, slab), SlabBeginLine(lines, slabs, slab + 1));
-      }
-    },
-    nullptr);
+  team.ForEach(slabs, [&function, lines, slabs](SizeValueType slab) {
+    function(slab, SlabBeginLine(lines, slabs, slab), SlabBeginLine(lines, slabs, slab + 1));
+  });
 }
 
-/** The slabs of lines to share among \a workUnits work units: more balance the load. */
+/** The slabs of lines to share among the members of \a team: more balance the load. */
 inline SizeValueType
-SlabsFor(SizeValueType lines, unsigned int workUnits)
+SlabsFor(SizeValueType lines, const WorkTeam & team)
 {
-  return std::min<SizeValueType>(lines, SizeValueType{ workUnits } * Tuning::SlabsPerWorkUnit);
+  return std::min<SizeValueType>(lines, SizeValueType{ team.GetNumberOfWorkUnits() } * Tuning::SlabsPerWorkUnit);
 }
 
-/** Calls function(line) for every line of \a lines, in slabs of lines shared among the work units
- * of \a threader. */
+/** Calls function(line) for every line of \a lines, in slabs of lines shared among the members
+ * of \a team. */
 template <typename TFunction>
 void
-ForEachLineInSlabs(MultiThreaderBase * threader, SizeValueType lines, const TFunction & function)
+ForEachLineInSlabs(WorkTeam & team, SizeValueType lines, const TFunction & function)
 {
-  ForEachSlabOfLines(threader,
-                     lines,
-                     SlabsFor(lines, threader->GetNumberOfWorkUnits()),
-                     [&function](SizeValueType, SizeValueType begin, SizeValueType end) {
-                       for (SizeValueType line = begin; line < end; ++line)
-                       {
-                         function(line);
-                       }
-                     });
+  ForEachSlabOfLines(
+    team, lines, SlabsFor(lines, team), [&function](SizeValueType, SizeValueType begin, SizeValueType end) {
+      for (SizeValueType line = begin; line < end; ++line)
+      {
+        function(line);
+      }
+    });
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

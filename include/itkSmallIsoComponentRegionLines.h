@@ -32,6 +32,19 @@ namespace SmallIsoComponentDetail
  * becomes an index, and back.
  * \ingroup SmallIsoComponent */
 /** @{ */
+/** The number of lines of a buffer of \a region. */
+template <unsigned int VDimension>
+SizeValueType
+NumberOfLines(const ImageRegion<VDimension> & region)
+{
+  SizeValueType lines = 1;
+  for (unsigned int a = 1; a < VDimension; ++a)
+  {
+    lines *= region.GetSize(a);
+  }
+  return lines;
+}
+
 /** The index of the first voxel of line \a line of a buffer of \a region. */
 template <unsigned int VDimension>
 Index<VDimension>
@@ -72,7 +85,7 @@ OffsetOf(const ImageRegion<VDimension> & region, const Index<VDimension> & index
 }
 
 /** Copies \a region from \a source, a buffer of \a sourceRegion, into \a target, a buffer of
- * \a targetRegion, line by line, with the work units of \a threader when given. */
+ * \a targetRegion, line by line, shared among the members of \a team when given. */
 template <typename TPixel, unsigned int VDimension>
 void
 CopyLines(const TPixel *                  source,
@@ -80,18 +93,14 @@ CopyLines(const TPixel *                  source,
           TPixel *                        target,
           const ImageRegion<VDimension> & targetRegion,
           const ImageRegion<VDimension> & region,
-          MultiThreaderBase *             threader = nullptr)
+          WorkTeam *                      team = nullptr)
 {
-  SizeValueType lines = 1;
-  for (unsigned int a = 1; a < VDimension; ++a)
-  {
-    lines *= region.GetSize(a);
-  }
-  const auto copyLine = [&](SizeValueType line) {
+  const SizeValueType lines = NumberOfLines(region);
+  const auto          copyLine = [&](SizeValueType line) {
     const Index<VDimension> first = IndexOfLine(region, line);
     std::copy_n(source + OffsetOf(sourceRegion, first), region.GetSize(0), target + OffsetOf(targetRegion, first));
   };
-  if (threader == nullptr || lines < 2)
+  if (team == nullptr || lines < 2)
   {
     for (SizeValueType line = 0; line < lines; ++line)
     {
@@ -99,7 +108,7 @@ CopyLines(const TPixel *                  source,
     }
     return;
   }
-  ForEachLineInSlabs(threader, lines, copyLine);
+  ForEachLineInSlabs(*team, lines, copyLine);
 }
 /** @} */
 } // namespace SmallIsoComponentDetail

@@ -35,7 +35,7 @@ namespace SmallIsoComponentDetail
 {
 /** \class WorkTeam
  * \brief Threads that stay with one filter update and take its parallel loops one after
- * another. Internal to SmallIsoComponentImageFilter.
+ * another. Internal to SmallIsoComponentImageFilter and SmallIsoComponentLabelImageFilter.
  *
  * It schedules every parallel loop of an update. A filter update runs several short
  * parallel loops with serial steps between them.
