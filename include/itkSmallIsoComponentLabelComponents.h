@@ -116,6 +116,28 @@ private:
       [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); });
   }
 
+  /** Joins the runs of each line of [begin, end) with those of its earlier neighbours that
+   * \a joinWith(earlier) accepts. */
+  template <typename TAccept>
+  void
+  JoinWithEarlierLines(const LineNeighbors & neighbors,
+                       bool                  fullyConnected,
+                       SizeValueType         begin,
+                       SizeValueType         end,
+                       const TAccept &       joinWith)
+  {
+    LineNeighbors::Position position = neighbors.At(begin);
+    for (SizeValueType line = begin; line < end; ++line, neighbors.Next(position))
+    {
+      neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
+        if (joinWith(earlier))
+        {
+          this->JoinLines(line, earlier, fullyConnected);
+        }
+      });
+    }
+  }
+
   /** Links the runs of the lines [begin, end) with each other, touching no other run. */
   void
   LinkSlab(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType begin, SizeValueType end)
@@ -124,16 +146,8 @@ private:
     {
       m_Parent[run] = run;
     }
-    LineNeighbors::Position position = neighbors.At(begin);
-    for (SizeValueType line = begin; line < end; ++line, neighbors.Next(position))
-    {
-      neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
-        if (earlier >= begin)
-        {
-          this->JoinLines(line, earlier, fullyConnected);
-        }
-      });
-    }
+    this->JoinWithEarlierLines(
+      neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier >= begin; });
   }
 
   /** Points every run of the lines [begin, end) at its root in the slab and adds its voxels to
@@ -186,16 +200,8 @@ private:
     {
       const SizeValueType begin = SlabBeginLine(lines, slabs, slab);
       const SizeValueType end = std::min(SlabBeginLine(lines, slabs, slab + 1), begin + neighbors.GetFarthestEarlier());
-      LineNeighbors::Position position = neighbors.At(begin);
-      for (SizeValueType line = begin; line < end; ++line, neighbors.Next(position))
-      {
-        neighbors.ForEachEarlier(position, [&](SizeValueType earlier) {
-          if (earlier < begin)
-          {
-            this->JoinLines(line, earlier, fullyConnected);
-          }
-        });
-      }
+      this->JoinWithEarlierLines(
+        neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier < begin; });
     }
     for (const std::vector<RunIndex> & roots : m_SlabRoots)
     {
