@@ -58,7 +58,7 @@ public:
     m_SlabRoots.resize(slabs);
     ForEachSlabOfLines(team, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
       this->LinkSlab(neighbors, fullyConnected, begin, end);
-      this->SizeSlab(begin, end, m_SlabRoots[slab]);
+      this->SizeSlab(begin, end, m_SlabRoots[slab].Roots);
     });
     if (slabs > 1)
     {
@@ -74,9 +74,9 @@ public:
   void
   ForEachComponent(TFunction && function) const
   {
-    for (const std::vector<RunIndex> & roots : m_SlabRoots)
+    for (const SlabRoots & roots : m_SlabRoots)
     {
-      for (const RunIndex root : roots)
+      for (const RunIndex root : roots.Roots)
       {
         if (m_Parent[root] == root)
         {
@@ -203,9 +203,9 @@ private:
       this->JoinWithEarlierLines(
         neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier < begin; });
     }
-    for (const std::vector<RunIndex> & roots : m_SlabRoots)
+    for (const SlabRoots & roots : m_SlabRoots)
     {
-      for (const RunIndex slabRoot : roots)
+      for (const RunIndex slabRoot : roots.Roots)
       {
         const RunIndex root = m_Parent[m_Parent[slabRoot]];
         if (root != slabRoot)
@@ -217,9 +217,15 @@ private:
     }
   }
 
-  std::vector<RunIndex>              m_Parent;
-  std::vector<SizeValueType>         m_Size;
-  std::vector<std::vector<RunIndex>> m_SlabRoots;
+  /** A slab's roots, on cache lines of their own: the work units add to theirs at once. */
+  struct alignas(64) SlabRoots
+  {
+    std::vector<RunIndex> Roots;
+  };
+
+  std::vector<RunIndex>      m_Parent;
+  std::vector<SizeValueType> m_Size;
+  std::vector<SlabRoots>     m_SlabRoots;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

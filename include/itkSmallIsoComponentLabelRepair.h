@@ -193,8 +193,9 @@ private:
     CollectVotes(const RunInOutput & part, const RegionType & region, SizeValueType x, std::vector<Vote> & votes) const;
   };
 
-  /** A slab's repairs and counts, and its scratch votes. */
-  struct Slab
+  /** A slab's repairs and counts, and its scratch votes, on cache lines of their own: the work
+   * units write theirs at once, for every vote. */
+  struct alignas(64) Slab
   {
     std::vector<Repair>             Repairs;
     std::map<TLabel, SizeValueType> Gained;
