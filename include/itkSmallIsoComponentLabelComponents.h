@@ -69,19 +69,24 @@ public:
     }
   }
 
-  /** Calls function(root) for the root of every component, in the order of the roots. */
+  /** The slabs Find() linked the runs in; each component has its root in one of them. */
+  SizeValueType
+  GetNumberOfSlabs() const
+  {
+    return m_SlabRoots.size();
+  }
+
+  /** Calls function(root) for the root of every component whose root is in \a slab, in the
+   * order of the roots. */
   template <typename TFunction>
   void
-  ForEachComponent(TFunction && function) const
+  ForEachComponentOfSlab(SizeValueType slab, TFunction && function) const
   {
-    for (const SlabRoots & roots : m_SlabRoots)
+    for (const RunIndex root : m_SlabRoots[slab].Roots)
     {
-      for (const RunIndex root : roots.Roots)
+      if (m_Parent[root] == root)
       {
-        if (m_Parent[root] == root)
-        {
-          function(root);
-        }
+        function(root);
       }
     }
   }

@@ -234,9 +234,25 @@ private:
   WriteOutputs(const LabelType * labels, const RegionType & region, SmallIsoComponentDetail::WorkTeam & team);
   bool
   IsSelected(LabelType label) const;
+  /** What one slab's components add to the statistics, on cache lines of their own. */
+  struct alignas(64) SlabCounts
+  {
+    LabelStatisticsMapType                          Labels;
+    std::map<LabelType, std::vector<SizeValueType>> Sizes;
+  };
+
   /** Which components are removed (m_Removed, at their roots), with the statistics. */
   void
-  DecideRemovals();
+  DecideRemovals(SmallIsoComponentDetail::WorkTeam & team);
+  /** Adds \a counts to the statistics. */
+  void
+  AddLabelStatistics(const LabelStatisticsMapType & counts);
+  /** Counts the components whose roots are in \a slab, with their sizes for KeepLargestComponents. */
+  void
+  CountComponents(SizeValueType slab, SlabCounts & counts) const;
+  /** Marks the selected components of \a slab that are removed, counting them. */
+  void
+  MarkRemovals(SizeValueType slab, const std::map<LabelType, SizeValueType> & smallestKept, SlabCounts & counts);
   void
   StopIfAborted() const;
 

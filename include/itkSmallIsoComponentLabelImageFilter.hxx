@@ -230,18 +230,28 @@ SmallIsoComponentLabelImageFilter<TImage>::IsSelected(LabelType label) const
 
 template <typename TImage>
 void
-SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
+SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals(SmallIsoComponentDetail::WorkTeam & team)
 {
-  std::map<LabelType, std::vector<SizeValueType>> sizes;
+  // Each slab's components are counted and decided by one work unit; the sums do not depend on the slabs.
+  std::vector<SlabCounts> slabs(m_Components.GetNumberOfSlabs());
+  team.ForEach(slabs.size(), [&](SizeValueType slab) { this->CountComponents(slab, slabs[slab]); });
   m_LabelStatistics.clear();
-  m_Components.ForEachComponent([&](RunIndex root) {
-    const LabelType     label = m_Components.Label(root);
-    const SizeValueType size = m_Components.Size(root);
-    LabelStatistics &   statistics = m_LabelStatistics[label];
-    ++statistics.Components;
-    ++statistics.Histogram[size];
-    sizes[label].push_back(size);
-  });
+  std::map<LabelType, std::vector<SizeValueType>> sizes;
+  for (SlabCounts & counts : slabs)
+  {
+    // The first counts are taken over as they are, the others added.
+    if (m_LabelStatistics.empty())
+    {
+      m_LabelStatistics.swap(counts.Labels);
+    }
+    this->AddLabelStatistics(counts.Labels);
+    counts.Labels.clear();
+    for (auto & entry : counts.Sizes)
+    {
+      std::vector<SizeValueType> & labelSizes = sizes[entry.first];
+      labelSizes.insert(labelSizes.end(), entry.second.begin(), entry.second.end());
+    }
+  }
   // The size a selected label's components must reach to stay under KeepLargestComponents.
   std::map<LabelType, SizeValueType> smallestKept;
   for (auto & entry : sizes)
@@ -255,7 +265,55 @@ SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
     }
   }
   m_Removed.assign(m_Components.GetNumberOfRuns(), 0);
-  m_Components.ForEachComponent([&](RunIndex root) {
+  team.ForEach(slabs.size(), [&](SizeValueType slab) { this->MarkRemovals(slab, smallestKept, slabs[slab]); });
+  for (const SlabCounts & counts : slabs)
+  {
+    this->AddLabelStatistics(counts.Labels);
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::AddLabelStatistics(const LabelStatisticsMapType & counts)
+{
+  for (const auto & entry : counts)
+  {
+    LabelStatistics & statistics = m_LabelStatistics[entry.first];
+    statistics.Components += entry.second.Components;
+    statistics.RemovedComponents += entry.second.RemovedComponents;
+    statistics.RemovedVoxels += entry.second.RemovedVoxels;
+    statistics.GainedVoxels += entry.second.GainedVoxels;
+    for (const auto & bin : entry.second.Histogram)
+    {
+      statistics.Histogram[bin.first] += bin.second;
+    }
+  }
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::CountComponents(SizeValueType slab, SlabCounts & counts) const
+{
+  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root) {
+    const LabelType     label = m_Components.Label(root);
+    const SizeValueType size = m_Components.Size(root);
+    LabelStatistics &   statistics = counts.Labels[label];
+    ++statistics.Components;
+    ++statistics.Histogram[size];
+    if (m_KeepLargestComponents > 0)
+    {
+      counts.Sizes[label].push_back(size);
+    }
+  });
+}
+
+template <typename TImage>
+void
+SmallIsoComponentLabelImageFilter<TImage>::MarkRemovals(SizeValueType                              slab,
+                                                        const std::map<LabelType, SizeValueType> & smallestKept,
+                                                        SlabCounts &                               counts)
+{
+  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root) {
     const LabelType label = m_Components.Label(root);
     if (!this->IsSelected(label))
     {
@@ -268,8 +326,8 @@ SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals()
     if (size <= k || (kept != smallestKept.end() && size < kept->second))
     {
       m_Removed[root] = 1;
-      ++m_LabelStatistics[label].RemovedComponents;
-      m_LabelStatistics[label].RemovedVoxels += size;
+      ++counts.Labels[label].RemovedComponents;
+      counts.Labels[label].RemovedVoxels += size;
     }
   });
 }
@@ -318,7 +376,7 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   m_Components.Find(labels, extent, m_FullyConnected, team);
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
-  this->DecideRemovals();
+  this->DecideRemovals(team);
   m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), team);
   for (const auto & gained : m_Repair.GetGainedVoxels())
   {
