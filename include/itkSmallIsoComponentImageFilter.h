@@ -28,7 +28,6 @@
 #include "itkSmallIsoComponentTuning.h"
 #include "itkSmallIsoComponentWorkingMemory.h"
 #include <memory>
-#include <type_traits>
 #include <vector>
 
 namespace itk
@@ -96,14 +95,6 @@ public:
   /** Component size (voxels) -> number of components of that size. */
   using ComponentSizeHistogramType = typename Superclass::ComponentSizeHistogramType;
 
-  static_assert(std::is_arithmetic<InputPixelType>::value,
-                "SmallIsoComponentImageFilter needs a scalar input pixel type (an integer or floating-point "
-                "type); vector, RGB and complex pixels have no isovalue.");
-  static_assert(std::is_arithmetic<OutputPixelType>::value,
-                "SmallIsoComponentImageFilter needs a scalar output pixel type (an integer or floating-point type).");
-  static_assert(static_cast<unsigned int>(TOutputImage::ImageDimension) == ImageDimension,
-                "SmallIsoComponentImageFilter needs input and output images of the same dimension.");
-
   itkNewMacro(Self);
 #ifdef itkOverrideGetNameOfClassMacro
   itkOverrideGetNameOfClassMacro(SmallIsoComponentImageFilter);
@@ -126,10 +117,8 @@ public:
   {
     return m_ExtraMemory.GetPeakInBytes();
   }
-  /** Seconds of wall time the last Update() spent in \a phase (see SmallIsoComponentEnums::Phase):
-   * the phases follow one another, and their times add up to the update's after the outputs
-   * are allocated. A phase done in both passes (deciding, repair, writes) adds both. All are 0
-   * after an update that swept in slabs (see GetSweptInSlabs()). */
+  /** Seconds of wall time the last Update() spent in \a phase (SmallIsoComponentEnums::Phase); the
+   * phases' times add up to the update's after the outputs are allocated, and are 0 after a sweep. */
   double
   GetPhaseSeconds(PhaseEnum phase) const
   {
@@ -138,19 +127,12 @@ public:
   /** @} */
 
   /** \name Large images: a sweep in slabs
-   * An image of two or three dimensions with at least SlabSweepMinimumSize voxels (2^30 by
-   * default) is labelled a slab of planes at a time along its last axis, as
-   * SmallIsoComponentStreamingImageFilter does, instead of all at once: the same output, mask and
-   * statistics (bit for bit), with working memory for a window of planes instead of 8 bytes per
-   * scanline run of the whole image. The filter chooses slabs of about 2^24 voxels (at most a sixteenth of the
-   * depth) and sweeps only
-   * when the window (StreamingSweep::WindowPlanes(), 2K + 4 + 3 slabs of planes with two work
-   * units or more) is at most half the image's depth; otherwise it labels the whole image.
-   * SetSlabThickness(T) with T > 0 sweeps every 2-D or 3-D image in slabs of T planes, whatever
-   * its size and K; 0 (the default) lets the filter decide as above. A SlabSweepMinimumSize
-   * larger than any image (NumericTraits<SizeValueType>::max()) keeps the whole-image labelling.
-   * GetSweptInSlabs() tells whether the last Update() swept in slabs, GetSweptSlabThickness()
-   * with how many planes a slab (0 when it did not). */
+   * A 2-D or 3-D image of at least SlabSweepMinimumSize voxels (2^30 by default) is labelled a
+   * slab of planes at a time along its last axis, with the same output, mask and statistics, bit
+   * for bit, and the working memory of a window of planes; when the window would exceed half the
+   * depth, the whole image is labelled (docs/algorithm.md, "The in-memory filter in slabs").
+   * SetSlabThickness(T > 0) sweeps every 2-D or 3-D image in slabs of T planes; 0 (the default)
+   * lets the filter decide. GetSweptSlabThickness() tells the last update's slabs (0: none). */
   /** @{ */
   itkSetMacro(SlabSweepMinimumSize, SizeValueType);
   itkGetConstMacro(SlabSweepMinimumSize, SizeValueType);
@@ -168,15 +150,9 @@ public:
   /** @} */
 
   /** \name Working memory kept between updates
-   * The arrays of the scanline runs (8 bytes per run, the bulk of
-   * GetPeakExtraMemoryInBytes()) and those of the passes (a flag per component, the removed
-   * runs, their new values, the grouping of the below pass) are kept after Update(), so that
-   * a pipeline that runs the filter again on an image of the same size, or a smaller one,
-   * takes no fresh memory (on Linux, first touching fresh memory costs more than the
-   * filter's own work on dense volumes). ReleaseWorkingMemory() gives them back; destroying
-   * the filter does too. An update that sweeps in slabs uses none of them and keeps nothing
-   * of its own.
-   * GetWorkingMemoryInBytes() tells how much is kept now. */
+   * The run arrays and the passes' arrays are kept after Update(), so that an update of an image
+   * of the same size or smaller takes no fresh memory. ReleaseWorkingMemory() gives them back, as
+   * destroying the filter does; GetWorkingMemoryInBytes() tells how much is kept. */
   /** @{ */
   void
   ReleaseWorkingMemory();
@@ -205,13 +181,6 @@ protected:
   GetSideCounts(SideEnum side) const override;
 
 private:
-  // The parameters, which the phases read, and the K of the last Update().
-  using Superclass::m_IsoValue;
-  using Superclass::m_Side;
-  using Superclass::m_FullyConnected;
-  using Superclass::m_GenerateRemovedMask;
-  using Superclass::m_EffectiveMaximumComponentSize;
-
   using WorkTeam = SmallIsoComponentDetail::WorkTeam;
   using RunLabeling = SmallIsoComponentDetail::RunLabeling;
   using DeferredFill = SmallIsoComponentDetail::DeferredFill;
@@ -231,8 +200,7 @@ private:
   const SideStatistics &
   StatisticsOf(SideEnum side) const;
 
-  /** Throws unless the input, the output and (when generated) the mask are one whole
-   * image each. */
+  /** Throws unless the input, the output and the mask are one whole image each. */
   void
   VerifyBufferedRegions();
 
@@ -243,30 +211,24 @@ private:
   /** \name The phases of GenerateData(), in order
    * Each phase reports the bytes it holds at its fullest to m_ExtraMemory. */
   /** @{ */
-  /** Encodes every line of the input as runs into \a labeling, after copying it to the
-   * output and clearing its mask line, and returns an empty fill. Large images of one
-   * pixel type are only encoded: the copy and the clearing are returned, to be done while
-   * the components are numbered. */
+  /** Encodes every line of the input as runs into \a labeling, after copying it to the output
+   * and clearing its mask line; for large images of one pixel type, returns the copy and the
+   * clearing instead, to be done while the components are numbered. */
   DeferredFill
   EncodeRuns(WorkTeam & team, RunLabeling & labeling);
 
-  /** Links the touching runs of each side (what the assembly of the runs left: the seams
-   * between slabs) and numbers the components, keeping the runs of the components of at
+  /** Links the runs across the slabs' seams and numbers the components, keeping those of at
    * most K voxels as candidates; the work units that would wait meanwhile do \a fill. */
   void
   LinkAndNumberComponents(WorkTeam & team, RunLabeling & labeling, const DeferredFill & fill);
 
-  /** The above pass, on the input's components: decides which ones it removes (flagged
-   * in m_Working->RemovedAbove) and repairs them. When the below pass follows (Side Both),
-   * the removed components flip below, and m_Working->Grouping joins the below components
-   * next to them in the repair's loop. */
+  /** The above pass: decides which components it removes (m_Working->RemovedAbove) and repairs
+   * them; before a below pass, m_Working->Grouping joins the below components next to them. */
   void
   RemoveAbove(WorkTeam & team);
 
-  /** The components of the image the below pass sees: the below components grouped
-   * through the above components that flipped (none unless the above pass of Both removed
-   * some). Decides which groups the below pass removes, and flags their members in
-   * m_Working->RemovedBelow. */
+  /** Groups the below components through the above components that flipped, and flags the
+   * members of the groups the below pass removes in m_Working->RemovedBelow. */
   void
   GroupBelow(WorkTeam & team);
 
@@ -276,13 +238,10 @@ private:
   RemoveBelow(WorkTeam & team);
   /** @} */
 
-  /** Counts the entries of each side given a flag array (\a removedAbove, \a removedBelow;
-   * nullptr: that side is not decided) in the side's statistics and decides which ones its
-   * pass removes: those with at most K voxels, when the pass runs and the output type has
-   * a value on the other side (else their voxels are unrepairable). sizeOf(i) is the size
-   * of entry i (0: no entry), isAbove(i) its side; one flag per entry, into its side's
-   * array. The entries are shared among the work units of \a team in as many parts (sizeOf
-   * and isAbove are called concurrently), and the parts' counts added. */
+  /** Counts the entries in their side's statistics and flags those its pass removes in
+   * \a removedAbove or \a removedBelow (nullptr: that side is not decided): at most K voxels, when
+   * the pass runs and the output type has a value on the other side. sizeOf(i) is entry i's size
+   * (0: no entry), isAbove(i) its side; both are called by the work units of \a team at once. */
   template <typename TSizeOf, typename TIsAbove>
   void
   DecideRemovals(WorkTeam &             team,
@@ -301,10 +260,8 @@ private:
   void
   CollectRemovedRuns(WorkTeam & team, const std::vector<uint8_t> & removed, SideEnum side);
 
-  /** Gives every voxel of \a runs (removed from \a side) a value on the other side,
-   * computed from the image before the pass, and marks it in the mask when there is one.
-   * \a joinFlipped, if given, joins the below components next to the runs in the same
-   * loop. */
+  /** Gives every voxel of \a runs (removed from \a side) a value on the other side, marks it in
+   * the mask, and with \a joinFlipped joins the below components next to the runs. */
   void
   RepairRuns(WorkTeam & team, const std::vector<LineRun> & runs, SideEnum side, BelowGrouping * joinFlipped);
 
@@ -321,8 +278,7 @@ private:
   bool
   AbovePassFlips() const;
 
-  /** Completes a phase's share of the progress, then stops the update if an abort was
-   * asked for meanwhile (an observer of the progress event may ask). */
+  /** Completes a phase's share of the progress, then stops if an abort was asked for. */
   void
   EndPhase(ProgressTransformer & progress);
 

@@ -110,7 +110,7 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
   this->GetMultiThreader()->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
+  this->m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(this->GetInput()->GetSpacing());
   m_SweptSlabThickness = this->ChooseSlabThickness();
   if (m_SweptSlabThickness > 0)
   {
@@ -134,7 +134,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GenerateData()
   // ReleaseWorkingMemory()).
   RunLabeling & labeling = m_Working->Labeling;
   labeling.Initialize(
-    std::vector<SizeValueType>(size.begin(), size.end()), m_FullyConnected, this->GetNumberOfWorkUnits());
+    std::vector<SizeValueType>(size.begin(), size.end()), this->m_FullyConnected, this->GetNumberOfWorkUnits());
   ProgressTransformer encodeProgress(0.0f, 0.3f, this);
   const DeferredFill  fill = this->EncodeRuns(team, labeling);
   m_PhaseClock.End(PhaseEnum::Encoding);
@@ -192,7 +192,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::ChooseSlabThickness() c
   // About ChosenSlabVoxels a slab, and at least 16 slabs.
   const SizeValueType slab = std::max<SizeValueType>(1, std::min(ChosenSlabVoxels / planeVoxels, depth / 16));
   const uint64_t      window = SmallIsoComponentDetail::StreamingSweep<OutputPixelType>::WindowPlanes(
-    m_EffectiveMaximumComponentSize, slab, this->GetNumberOfWorkUnits());
+    this->m_EffectiveMaximumComponentSize, slab, this->GetNumberOfWorkUnits());
   return 2 * window <= depth ? slab : 0;
 }
 
@@ -210,14 +210,14 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::SweepInSlabs(SizeValueT
                                               : typename SweepType::IndexType{ size[0], 1, size[last] };
   const InputPixelType *              in = this->GetInput()->GetBufferPointer();
   OutputPixelType *                   out = this->GetOutput()->GetBufferPointer();
-  MaskPixelType * mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  MaskPixelType * mask = this->m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
   // The sweep copies each slab it takes, and gives out a plane only after taking it: in place,
   // the planes written are ones the sweep has taken already.
   SweepType                    sweep(box,
-                  m_IsoValue,
-                  m_EffectiveMaximumComponentSize,
-                  m_Side,
-                  m_FullyConnected,
+                  this->m_IsoValue,
+                  this->m_EffectiveMaximumComponentSize,
+                  this->m_Side,
+                  this->m_FullyConnected,
                   slabPlanes,
                   mask != nullptr,
                   this->GetMultiThreader(),
@@ -274,7 +274,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::VerifyBufferedRegions()
 {
   const auto & region = this->GetOutput()->GetBufferedRegion();
   const auto & inputRegion = this->GetInput()->GetBufferedRegion();
-  if (inputRegion != region || (m_GenerateRemovedMask && this->GetRemovedMask()->GetBufferedRegion() != region))
+  if (inputRegion != region || (this->m_GenerateRemovedMask && this->GetRemovedMask()->GetBufferedRegion() != region))
   {
     itkExceptionMacro("The input's buffered region " << inputRegion << " differs from the output's " << region
                                                      << "; the filter needs the whole image in one buffer.");
@@ -302,8 +302,8 @@ auto
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & team, RunLabeling & labeling)
   -> DeferredFill
 {
-  MaskPixelType *        maskBuffer = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
-  const SizeValueType    maskPixelBytes = m_GenerateRemovedMask ? sizeof(MaskPixelType) : 0;
+  MaskPixelType *     maskBuffer = this->m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  const SizeValueType maskPixelBytes = this->m_GenerateRemovedMask ? sizeof(MaskPixelType) : 0;
   const InputPixelType * inBuffer = this->GetInput()->GetBufferPointer();
   OutputPixelType *      outBuffer = this->GetOutput()->GetBufferPointer();
   const bool             copy = static_cast<const void *>(inBuffer) != static_cast<const void *>(outBuffer);
@@ -311,7 +311,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::EncodeRuns(WorkTeam & t
   const SizeValueType    lines = labeling.GetNumberOfLines();
   const bool             stream = length * lines * (sizeof(OutputPixelType) + maskPixelBytes) >=
                       SmallIsoComponentDetail::Tuning::StreamingThresholdInBytes;
-  const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(m_IsoValue);
+  const SmallIsoComponentDetail::RunEncoder<OutputPixelType> encoder(this->m_IsoValue);
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
     if (stream)
@@ -379,9 +379,9 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
                                                                                  const DeferredFill & fill)
 {
   // Only the sides a pass removes need their candidate runs.
-  const SizeValueType candidateSize = m_EffectiveMaximumComponentSize;
-  const SizeValueType aboveCandidateSize = m_Side == SideEnum::Below ? 0 : candidateSize;
-  const SizeValueType belowCandidateSize = m_Side == SideEnum::Above ? 0 : candidateSize;
+  const SizeValueType candidateSize = this->m_EffectiveMaximumComponentSize;
+  const SizeValueType aboveCandidateSize = this->m_Side == SideEnum::Below ? 0 : candidateSize;
+  const SizeValueType belowCandidateSize = this->m_Side == SideEnum::Above ? 0 : candidateSize;
   if (fill.IsEmpty() || team.GetNumberOfWorkUnits() <= 1)
   {
     labeling.LinkRuns();
@@ -428,7 +428,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::LinkAndNumberComponents
     // With Side Both, the memory of the groups' component table and of the removed runs,
     // taken later anyway, serves first as the scratch of a shared numbering's help: the
     // partial sizes and the candidates of the lines its first stage sums.
-    const bool                                      bothSides = m_Side == SideEnum::Both;
+    const bool                                      bothSides = this->m_Side == SideEnum::Both;
     SmallIsoComponentDetail::RunComponents::Sharing sharing;
     sharing.OtherWork = fillOne;
     sharing.Pipeline = labeling.GetNumberOfRuns() * SmallIsoComponentDetail::Tuning::FillBytesPerRunToShareNumbering >=
@@ -457,7 +457,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RemoveAbove(WorkTeam & 
   // decided on its components too, in the same pass over them; with one, the below side is
   // decided after the above pass (GroupBelow()).
   this->DecideComponentRemovals(
-    team, &working.RemovedAbove, m_Side == SideEnum::Both ? nullptr : &working.RemovedBelow);
+    team, &working.RemovedAbove, this->m_Side == SideEnum::Both ? nullptr : &working.RemovedBelow);
   this->CollectRemovedRuns(team, working.RemovedAbove, SideEnum::Above);
   // Finding the below components that the flipped ones join visits the same runs as
   // the repair, so it is done in the repair's loop.
@@ -483,7 +483,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
   // components themselves, and no grouping is needed.
   if (!this->AbovePassFlips())
   {
-    if (m_Side == SideEnum::Both)
+    if (this->m_Side == SideEnum::Both)
     {
       this->DecideComponentRemovals(team, nullptr, &working.RemovedBelow);
     }
@@ -501,7 +501,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
     &working.RemovedGroups);
   // A component is removed with its group. The voxels of a removed group's flipped
   // members were counted as modified by the above pass already, and are not counted again.
-  const SizeValueType components = working.Labeling.GetNumberOfComponents();
+  const SizeValueType components = working.Labeling.GetComponents().GetNumberOfComponents();
   working.RemovedBelow.resize(components);
   const SizeValueType                           parts = team.GetNumberOfParts(components);
   std::vector<SizeValueType>                    countedAlready(parts, 0);
@@ -518,7 +518,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::GroupBelow(WorkTeam & t
       const RunLabeling::ComponentIndexType group = groupOf[component];
       const uint8_t removed = group != BelowGrouping::NoGroup ? removedGroup[group] : uint8_t{ 0 };
       removedBelow[component] = removed;
-      counted += labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component)) &
+      counted += labeling.GetComponents().GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component)) &
                  (SizeValueType{ 0 } - static_cast<SizeValueType>(removed & removedAbove[component]));
     }
     countedAlready[part] = counted;
@@ -559,12 +559,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
                                                                         std::vector<uint8_t> * removedAbove,
                                                                         std::vector<uint8_t> * removedBelow)
 {
-  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
+  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(this->m_IsoValue);
   // Per side (0 below, 1 above): whether it is decided, whether its pass removes, and
   // whether the output type has a value on the other side to repair with.
   const bool decided[2] = { removedBelow != nullptr, removedAbove != nullptr };
-  const bool passRuns[2] = { decided[0] && (m_Side == SideEnum::Below || m_Side == SideEnum::Both),
-                             decided[1] && (m_Side == SideEnum::Above || m_Side == SideEnum::Both) };
+  const bool passRuns[2] = { decided[0] && (this->m_Side == SideEnum::Below || this->m_Side == SideEnum::Both),
+                             decided[1] && (this->m_Side == SideEnum::Above || this->m_Side == SideEnum::Both) };
   const bool removable[2] = { passRuns[0] && threshold.AnyAbove(), passRuns[1] && threshold.AnyBelow() };
   const bool unrepairable[2] = { passRuns[0] && !threshold.AnyAbove(), passRuns[1] && !threshold.AnyBelow() };
   for (std::vector<uint8_t> * removed : { removedBelow, removedAbove })
@@ -596,7 +596,7 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideRemovals(WorkTeam
   };
   const SizeValueType parts = team.GetNumberOfParts(entries);
   std::vector<Part>   part(parts);
-  const SizeValueType maximum = m_EffectiveMaximumComponentSize;
+  const SizeValueType maximum = this->m_EffectiveMaximumComponentSize;
   team.ForEach(parts, [&](SizeValueType p) {
     Part &              mine = part[p];
     const SizeValueType end = WorkTeam::PartBegin(entries, p + 1, parts);
@@ -647,12 +647,12 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::DecideComponentRemovals
   const RunLabeling & labeling = m_Working->Labeling;
   this->DecideRemovals(
     team,
-    labeling.GetNumberOfComponents(),
+    labeling.GetComponents().GetNumberOfComponents(),
     [&labeling](SizeValueType component) {
-      return labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
+      return labeling.GetComponents().GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(component));
     },
     [&labeling](SizeValueType component) {
-      return labeling.IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(component));
+      return labeling.GetComponents().IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(component));
     },
     removedAbove,
     removedBelow);
@@ -692,16 +692,16 @@ SmallIsoComponentImageFilter<TInputImage, TOutputImage>::RepairRuns(WorkTeam &  
   const OutputPixelType * valuesBeforePass = output->GetBufferPointer();
   if constexpr (std::is_same<InputPixelType, OutputPixelType>::value)
   {
-    if (side == SideEnum::Above || m_Side == SideEnum::Below)
+    if (side == SideEnum::Above || this->m_Side == SideEnum::Below)
     {
       valuesBeforePass = this->GetInput()->GetBufferPointer();
     }
   }
   SmallIsoComponentDetail::RunRepair<OutputPixelType, ImageDimension> repair(
     team, m_Working->Labeling, runs, output->GetBufferedRegion().GetSize(), m_Working->Values);
-  uint8_t * const mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  uint8_t * const mask = this->m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
   const uint8_t   maskValue = side == SideEnum::Above ? 1 : 2;
-  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(m_IsoValue);
+  const SmallIsoComponentDetail::Threshold<OutputPixelType> threshold(this->m_IsoValue);
   // Where the walks read the input, not the output, each value is written as it is found.
   const bool writeAsFound = valuesBeforePass != output->GetBufferPointer() && joinFlipped == nullptr;
   if (writeAsFound)
@@ -727,7 +727,7 @@ template <typename TInputImage, typename TOutputImage>
 bool
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::AbovePassFlips() const
 {
-  return m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
+  return this->m_Side == SideEnum::Both && m_AboveStatistics.RemovedComponents > 0;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -755,7 +755,7 @@ void
 SmallIsoComponentImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "EffectiveMaximumComponentSize: " << m_EffectiveMaximumComponentSize << std::endl;
+  os << indent << "EffectiveMaximumComponentSize: " << this->m_EffectiveMaximumComponentSize << std::endl;
   os << indent << "NumberOfComponents (above, below): " << m_AboveStatistics.Components << ", "
      << m_BelowStatistics.Components << std::endl;
   os << indent << "NumberOfRemovedComponents (above, below): " << m_AboveStatistics.RemovedComponents << ", "

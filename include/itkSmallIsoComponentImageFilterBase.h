@@ -21,6 +21,7 @@
 #include "itkInPlaceImageFilter.h"
 #include "itkSmallIsoComponentEnums.h"
 #include <map>
+#include <type_traits>
 
 namespace itk
 {
@@ -73,6 +74,12 @@ public:
   using SideEnum = SmallIsoComponentEnums::Side;
   /** Component size (voxels) -> number of components of that size. */
   using ComponentSizeHistogramType = std::map<SizeValueType, SizeValueType>;
+
+  static_assert(std::is_arithmetic<InputPixelType>::value && std::is_arithmetic<OutputPixelType>::value,
+                "SmallIsoComponent filters need scalar pixel types (integer or floating point); vector, RGB and "
+                "complex pixels have no isovalue.");
+  static_assert(static_cast<unsigned int>(TOutputImage::ImageDimension) == ImageDimension,
+                "SmallIsoComponent filters need input and output images of the same dimension.");
 
 #ifdef itkOverrideGetNameOfClassMacro
   itkOverrideGetNameOfClassMacro(SmallIsoComponentImageFilterBase);

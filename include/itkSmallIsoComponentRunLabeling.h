@@ -175,21 +175,6 @@ public:
   {
     return m_Components;
   }
-  SizeValueType
-  GetNumberOfComponents() const
-  {
-    return m_Components.GetNumberOfComponents();
-  }
-  SizeValueType
-  GetComponentSize(ComponentIndexType component) const
-  {
-    return m_Components.GetComponentSize(component);
-  }
-  bool
-  IsComponentAbove(ComponentIndexType component) const
-  {
-    return m_Components.IsComponentAbove(component);
-  }
   using LineRun = RunComponents::LineRun;
 
   /** The runs, read-only, as arrays (RunTable): valid from AssembleRuns() until the next
@@ -238,7 +223,6 @@ public:
    * use. Otherwise the arrays keep their memory from one image to the next. */
   void
   ReleaseMemory();
-
 
 protected:
   /** \name Ways of working that only the tests choose

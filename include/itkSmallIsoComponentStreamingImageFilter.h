@@ -22,7 +22,6 @@
 #include "itkSmallIsoComponentStreamingSweep.h"
 #include <deque>
 #include <memory>
-#include <type_traits>
 
 namespace itk
 {
@@ -76,8 +75,6 @@ public:
 
   static_assert(ImageDimension == 2 || ImageDimension == 3,
                 "SmallIsoComponentStreamingImageFilter handles images of two or three dimensions.");
-  static_assert(std::is_arithmetic<InputPixelType>::value && std::is_arithmetic<OutputPixelType>::value,
-                "SmallIsoComponentStreamingImageFilter needs scalar pixel types (integer or floating point).");
 
   itkNewMacro(Self);
 #ifdef itkOverrideGetNameOfClassMacro

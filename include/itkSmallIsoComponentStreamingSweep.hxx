@@ -271,12 +271,12 @@ StreamingSweep<TPixel>::LabelSlab(Slab & s, unsigned int workUnits) const
            m_Threader,
            workUnits,
            s.Labeling);
-  const SizeValueType  components = s.Labeling.GetNumberOfComponents();
+  const SizeValueType  components = s.Labeling.GetComponents().GetNumberOfComponents();
   std::vector<uint8_t> small(components, 0);
   for (SizeValueType c = 0; c < components; ++c)
   {
-    small[c] =
-      s.Labeling.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <= m_Rules.MaximumComponentSize;
+    small[c] = s.Labeling.GetComponents().GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <=
+               m_Rules.MaximumComponentSize;
   }
   // The runs of the small components, grouped by component (in run order within each).
   {

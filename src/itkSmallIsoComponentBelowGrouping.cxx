@@ -43,7 +43,7 @@ void
 BelowGrouping::Reset(const RunLabeling & labeling)
 {
   m_Labeling = &labeling;
-  const SizeValueType components = labeling.GetNumberOfComponents();
+  const SizeValueType components = labeling.GetComponents().GetNumberOfComponents();
   if (components > m_Capacity)
   {
     m_Parent.reset();
@@ -323,7 +323,7 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped) -> Groups
 void
 BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
 {
-  const SizeValueType numberOfComponents = m_Labeling->GetNumberOfComponents();
+  const SizeValueType numberOfComponents = m_Labeling->GetComponents().GetNumberOfComponents();
   groups.GroupOfComponent.assign(numberOfComponents, NoGroup);
   groups.GroupSize.clear();
   // No FindRootShared() is needed: a component's parent is a member of its group with a smaller
@@ -332,7 +332,7 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
   for (SizeValueType c = 0; c < numberOfComponents; ++c)
   {
     const auto member = static_cast<ComponentIndexType>(c);
-    if (m_Labeling->IsComponentAbove(member) && !flipped[c])
+    if (m_Labeling->GetComponents().IsComponentAbove(member) && !flipped[c])
     {
       continue;
     }
@@ -348,7 +348,7 @@ BelowGrouping::Finish(const std::vector<uint8_t> & flipped, Groups & groups)
       group = groups.GroupOfComponent[parent];
     }
     groups.GroupOfComponent[c] = group;
-    groups.GroupSize[group] += m_Labeling->GetComponentSize(member);
+    groups.GroupSize[group] += m_Labeling->GetComponents().GetComponentSize(member);
   }
 }
 } // namespace SmallIsoComponentDetail

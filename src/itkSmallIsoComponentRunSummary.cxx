@@ -98,14 +98,14 @@ AddFaceLayers(BlockSummary & summary, const RunLabeling & labeling, const BlockS
 void
 AddTouchingOfSmallAbove(BlockSummary & summary, const RunLabeling & labeling)
 {
-  const SizeValueType  components = labeling.GetNumberOfComponents();
+  const SizeValueType  components = labeling.GetComponents().GetNumberOfComponents();
   std::vector<uint8_t> possiblySmall(components, 0);
   bool                 any = false;
   for (SizeValueType c = 0; c < components; ++c)
   {
     const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
-    possiblySmall[c] =
-      labeling.IsComponentAbove(component) && summary.NeedsTouching(labeling.GetComponentSize(component));
+    possiblySmall[c] = labeling.GetComponents().IsComponentAbove(component) &&
+                       summary.NeedsTouching(labeling.GetComponents().GetComponentSize(component));
     any = any || possiblySmall[c];
   }
   if (!any)
@@ -138,11 +138,12 @@ SummarizeLabeling(const RunLabeling &             labeling,
 {
   const BlockSummary::IndexType end{ begin[0] + extent[0], begin[1] + extent[1], begin[2] + extent[2] };
   BlockSummary                  summary(imageSize, begin, end, rules);
-  const SizeValueType           components = labeling.GetNumberOfComponents();
+  const SizeValueType           components = labeling.GetComponents().GetNumberOfComponents();
   for (SizeValueType c = 0; c < components; ++c)
   {
     const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
-    summary.AddComponent(labeling.IsComponentAbove(component), labeling.GetComponentSize(component));
+    summary.AddComponent(labeling.GetComponents().IsComponentAbove(component),
+                         labeling.GetComponents().GetComponentSize(component));
   }
   AddFaceLayers(summary, labeling, extent);
   AddTouchingOfSmallAbove(summary, labeling);

@@ -62,7 +62,7 @@ Group(Grouped &                           grouped,
 {
   Label(grouped.Labeling, values, ExtentOf(grid), 100.0, fullyConnected, 2, grid.NumberOfVoxels());
   grouped.VoxelComponent = VoxelComponents(grouped.Labeling);
-  grouped.Flipped.assign(grouped.Labeling.GetNumberOfComponents(), 0);
+  grouped.Flipped.assign(grouped.Labeling.GetComponents().GetNumberOfComponents(), 0);
   for (SizeValueType v = 0; v < values.size(); ++v)
   {
     if (flippedVoxels[v] && values[v] >= 100)

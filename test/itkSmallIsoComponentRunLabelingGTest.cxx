@@ -98,17 +98,20 @@ LabelingDifference(const RunLabeling &                 labeling,
         continue;
       }
       const auto component = static_cast<RunLabeling::ComponentIndexType>(voxelComponent[v]);
-      if (labeling.GetComponentSize(component) != sizes[expected[v]] || labeling.IsComponentAbove(component) != above)
+      if (labeling.GetComponents().GetComponentSize(component) != sizes[expected[v]] ||
+          labeling.GetComponents().IsComponentAbove(component) != above)
       {
-        out << "component " << component << " has " << labeling.GetComponentSize(component) << " voxels, above "
-            << labeling.IsComponentAbove(component) << "; the flood fill finds " << sizes[expected[v]] << "; ";
+        out << "component " << component << " has " << labeling.GetComponents().GetComponentSize(component)
+            << " voxels, above " << labeling.GetComponents().IsComponentAbove(component) << "; the flood fill finds "
+            << sizes[expected[v]] << "; ";
         break;
       }
     }
   }
-  if (labeling.GetNumberOfComponents() != components)
+  if (labeling.GetComponents().GetNumberOfComponents() != components)
   {
-    out << labeling.GetNumberOfComponents() << " components, the flood fill finds " << components << "; ";
+    out << labeling.GetComponents().GetNumberOfComponents() << " components, the flood fill finds " << components
+        << "; ";
   }
   return out.str();
 }
@@ -195,13 +198,13 @@ CheckRandomVolume(RandomSource &                      random,
 
       // The candidates of the selected components: their runs while the component has
       // at most candidateSize voxels up to and including the run, in run order.
-      std::vector<uint8_t> selected(labeling.GetNumberOfComponents());
+      std::vector<uint8_t> selected(labeling.GetComponents().GetNumberOfComponents());
       for (auto & s : selected)
       {
         s = random.Chance(0.5) ? 1 : 0;
       }
       std::vector<RunLabeling::LineRun> expected;
-      std::vector<SizeValueType>        sizeSoFar(labeling.GetNumberOfComponents(), 0);
+      std::vector<SizeValueType>        sizeSoFar(labeling.GetComponents().GetNumberOfComponents(), 0);
       for (SizeValueType line = 0; line < labeling.GetNumberOfLines(); ++line)
       {
         for (SizeValueType run = runs.LineBegin[line]; run < runs.LineBegin[line + 1]; ++run)
@@ -238,7 +241,7 @@ CheckRandomVolume(RandomSource &                      random,
         std::vector<RunLabeling::LineRun> expectedOfSide;
         for (const auto & run : expected)
         {
-          if (labeling.IsComponentAbove(runs.Component[run.Run]) == above)
+          if (labeling.GetComponents().IsComponentAbove(runs.Component[run.Run]) == above)
           {
             expectedOfSide.push_back(run);
           }
@@ -260,10 +263,11 @@ CheckRandomVolume(RandomSource &                      random,
 
       // The memory it reports covers the bytes per run, line, component and candidate
       // that its class documentation states.
-      std::vector<uint8_t> all(labeling.GetNumberOfComponents(), 1);
+      std::vector<uint8_t> all(labeling.GetComponents().GetNumberOfComponents(), 1);
       const SizeValueType  candidates = labeling.GetComponents().CollectCandidateRuns(all).size();
       EXPECT_GE(labeling.GetMemoryInBytes(),
-                8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetNumberOfComponents() + 8 * candidates);
+                8 * lastRun + 9 * labeling.GetNumberOfLines() + 9 * labeling.GetComponents().GetNumberOfComponents() +
+                  8 * candidates);
     }
     else
     {
@@ -281,11 +285,13 @@ CheckRandomVolume(RandomSource &                      random,
     Label(serial, values, ExtentOf(grid), 100.0, fullyConnected, 2, candidateSize, 1);
     const RunLabeling::RunTable serialRuns = serial.GetRunTable();
     const SizeValueType         lastRun = serialRuns.LineBegin[serial.GetNumberOfLines()];
-    std::vector<uint8_t>        all(serial.GetNumberOfComponents(), 1);
-    std::vector<uint8_t>        small(serial.GetNumberOfComponents(), 0);
+    std::vector<uint8_t>        all(serial.GetComponents().GetNumberOfComponents(), 1);
+    std::vector<uint8_t>        small(serial.GetComponents().GetNumberOfComponents(), 0);
     for (SizeValueType c = 0; c < small.size(); ++c)
     {
-      small[c] = serial.GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <= candidateSize ? 1 : 0;
+      small[c] =
+        serial.GetComponents().GetComponentSize(static_cast<RunLabeling::ComponentIndexType>(c)) <= candidateSize ? 1
+                                                                                                                  : 0;
     }
     const auto serialCandidates = serial.GetComponents().CollectCandidateRuns(all);
     const auto serialSmall = serial.GetComponents().CollectCandidateRuns(small);
@@ -326,12 +332,16 @@ CheckRandomVolume(RandomSource &                      random,
         {
           ASSERT_EQ(sharedRuns.Component[run], serialRuns.Component[run]) << "run " << run;
         }
-        ASSERT_EQ(shared.GetNumberOfComponents(), serial.GetNumberOfComponents());
-        for (SizeValueType c = 0; c < serial.GetNumberOfComponents(); ++c)
+        ASSERT_EQ(shared.GetComponents().GetNumberOfComponents(), serial.GetComponents().GetNumberOfComponents());
+        for (SizeValueType c = 0; c < serial.GetComponents().GetNumberOfComponents(); ++c)
         {
           const auto component = static_cast<RunLabeling::ComponentIndexType>(c);
-          ASSERT_EQ(shared.GetComponentSize(component), serial.GetComponentSize(component)) << "component " << c;
-          ASSERT_EQ(shared.IsComponentAbove(component), serial.IsComponentAbove(component)) << "component " << c;
+          ASSERT_EQ(shared.GetComponents().GetComponentSize(component),
+                    serial.GetComponents().GetComponentSize(component))
+            << "component " << c;
+          ASSERT_EQ(shared.GetComponents().IsComponentAbove(component),
+                    serial.GetComponents().IsComponentAbove(component))
+            << "component " << c;
         }
         const auto sharedCandidates = shared.GetComponents().CollectCandidateRuns(all);
         const auto sharedSmall = shared.GetComponents().CollectCandidateRuns(small);
@@ -403,10 +413,10 @@ AboveComponentsOfTwoVoxels(const std::array<SizeValueType, VDimension> &        
     values[grid.Linear(second)] = 200;
     RunLabeling labeling;
     Label(labeling, values, ExtentOf(grid), 100.0, fullyConnected, 2, 0);
-    for (SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+    for (SizeValueType c = 0; c < labeling.GetComponents().GetNumberOfComponents(); ++c)
     {
       counts[fullyConnected ? 1 : 0] +=
-        labeling.IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(c)) ? 1 : 0;
+        labeling.GetComponents().IsComponentAbove(static_cast<RunLabeling::ComponentIndexType>(c)) ? 1 : 0;
     }
   }
   return counts;

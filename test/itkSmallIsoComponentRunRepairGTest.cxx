@@ -89,12 +89,12 @@ CheckRepairs(uint32_t      seed,
     Internal::RunLabeling labeling;
     Label(labeling, values, ExtentOf(grid), isoValue, fullyConnected, 2, maximumSize);
     const auto           voxelComponent = VoxelComponents(labeling);
-    std::vector<uint8_t> removed(labeling.GetNumberOfComponents(), 0);
+    std::vector<uint8_t> removed(labeling.GetComponents().GetNumberOfComponents(), 0);
     for (SizeValueType c = 0; c < removed.size(); ++c)
     {
       const auto component = static_cast<Internal::RunLabeling::ComponentIndexType>(c);
-      removed[c] = labeling.IsComponentAbove(component) == removedAreAbove &&
-                   labeling.GetComponentSize(component) <= maximumSize && random.Chance(0.8);
+      removed[c] = labeling.GetComponents().IsComponentAbove(component) == removedAreAbove &&
+                   labeling.GetComponents().GetComponentSize(component) <= maximumSize && random.Chance(0.8);
     }
     const auto runs = labeling.GetComponents().CollectCandidateRuns(removed);
 

@@ -186,12 +186,12 @@ LabelSides(const TPixel *                          buffer,
   below = SideHistogram();
   above.CountOfSize.assign(largestSize + 1, 0);
   below.CountOfSize.assign(largestSize + 1, 0);
-  for (itk::SizeValueType c = 0; c < labeling.GetNumberOfComponents(); ++c)
+  for (itk::SizeValueType c = 0; c < labeling.GetComponents().GetNumberOfComponents(); ++c)
   {
     const auto      component = static_cast<itk::SmallIsoComponentDetail::RunLabeling::ComponentIndexType>(c);
-    SideHistogram & side = labeling.IsComponentAbove(component) ? above : below;
+    SideHistogram & side = labeling.GetComponents().IsComponentAbove(component) ? above : below;
     ++side.Components;
-    const itk::SizeValueType componentSize = labeling.GetComponentSize(component);
+    const itk::SizeValueType componentSize = labeling.GetComponents().GetComponentSize(component);
     if (componentSize <= largestSize)
     {
       ++side.CountOfSize[componentSize];
