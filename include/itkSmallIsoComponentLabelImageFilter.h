@@ -228,10 +228,10 @@ private:
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
-  /** The output and the mask: \a labels, the voxels of \a region, with the repairs, in the
-   * output's region, written by the members of \a team. */
-  void
-  WriteOutputs(const LabelType * labels, const RegionType & region, SmallIsoComponentDetail::WorkTeam & team);
+  /** Copies \a labels, the voxels of \a region, into the output's region and clears the mask,
+   * line by line with the members of \a team; returns the mask's buffer (nullptr without it). */
+  uint8_t *
+  CopyInputAndClearMask(const LabelType * labels, const RegionType & region, SmallIsoComponentDetail::WorkTeam & team);
   bool
   IsSelected(LabelType label) const;
   /** What one slab's components add to the statistics, on cache lines of their own. */

@@ -377,51 +377,47 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals(team);
-  m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), team);
+  // The output starts as the input; the repair marks the mask and finds the removed voxels' labels.
+  uint8_t * const mask = this->CopyInputAndClearMask(labels, region, team);
+  m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), mask, team);
   for (const auto & gained : m_Repair.GetGainedVoxels())
   {
     m_LabelStatistics[gained.first].GainedVoxels += gained.second;
   }
   m_NumberOfUnrepairableVoxels = m_Repair.GetNumberOfUnrepairableVoxels();
+  m_NumberOfModifiedVoxels = m_Repair.GetNumberOfRepairs();
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
-  this->WriteOutputs(labels, region, team);
+  LabelType * const output = this->GetOutput()->GetBufferPointer();
+  m_Repair.ForEachRepair([output](const typename Repair::Repair & repair) { output[repair.Offset] = repair.Label; });
   this->UpdateProgress(1.0f);
 }
 
 template <typename TImage>
-void
-SmallIsoComponentLabelImageFilter<TImage>::WriteOutputs(const LabelType *                   labels,
-                                                        const RegionType &                  region,
-                                                        SmallIsoComponentDetail::WorkTeam & team)
+uint8_t *
+SmallIsoComponentLabelImageFilter<TImage>::CopyInputAndClearMask(const LabelType *                   labels,
+                                                                 const RegionType &                  region,
+                                                                 SmallIsoComponentDetail::WorkTeam & team)
 {
-  ImageType *      output = this->GetOutput();
-  const RegionType outputRegion = output->GetBufferedRegion();
-  LabelType *      outputBuffer = output->GetBufferPointer();
-  if (outputBuffer != labels)
-  {
-    SmallIsoComponentDetail::CopyLines(labels, region, outputBuffer, outputRegion, outputRegion, &team);
-  }
-  m_Repair.ForEachRepair(
-    [outputBuffer](const typename Repair::Repair & repair) { outputBuffer[repair.Offset] = repair.Label; });
-  m_NumberOfModifiedVoxels = m_Repair.GetNumberOfRepairs();
-  if (m_GenerateRemovedMask)
-  {
-    uint8_t * const     mask = this->GetRemovedMask()->GetBufferPointer();
-    const SizeValueType length = outputRegion.GetSize(0);
-    SmallIsoComponentDetail::ForEachLineInSlabs(
-      team, SmallIsoComponentDetail::NumberOfLines(outputRegion), [mask, length](SizeValueType line) {
+  ImageType * const   output = this->GetOutput();
+  const RegionType    outputRegion = output->GetBufferedRegion();
+  LabelType * const   outputBuffer = output->GetBufferPointer();
+  const bool          copy = outputBuffer != labels;
+  uint8_t * const     mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
+  const SizeValueType length = outputRegion.GetSize(0);
+  SmallIsoComponentDetail::ForEachLineInSlabs(
+    team, SmallIsoComponentDetail::NumberOfLines(outputRegion), [&](SizeValueType line) {
+      if (copy)
+      {
+        const IndexType first = SmallIsoComponentDetail::IndexOfLine(outputRegion, line);
+        std::copy_n(labels + SmallIsoComponentDetail::OffsetOf(region, first), length, outputBuffer + line * length);
+      }
+      if (mask != nullptr)
+      {
         std::fill_n(mask + line * length, length, 0);
-      });
-    Repair::ForEachRemovedRunInOutput(m_Components,
-                                      m_Removed,
-                                      region,
-                                      outputRegion,
-                                      team,
-                                      [mask](SizeValueType, const typename Repair::RunInOutput & part) {
-                                        std::fill(mask + part.Offset + part.Begin, mask + part.Offset + part.End, 1);
-                                      });
-  }
+      }
+    });
+  return mask;
 }
 
 template <typename TImage>

@@ -50,6 +50,70 @@ public:
     TLabel        Label;
   };
 
+  /** Finds the new label of every removed voxel of \a outputRegion from \a input, the voxels of
+   * \a region, and sets it to 1 in \a mask (cleared, the output region's) when given. The halo's
+   * removed voxels are not written, so they are not repaired and the counts are those of the
+   * output's voxels. */
+  void
+  Compute(const TLabel *               input,
+          const Components &           components,
+          const std::vector<uint8_t> & removed,
+          const RegionType &           region,
+          const RegionType &           outputRegion,
+          uint8_t *                    mask,
+          WorkTeam &                   team)
+  {
+    m_Slabs.resize(SlabsFor(components.GetNumberOfLines(), team));
+    for (Slab & slab : m_Slabs)
+    {
+      slab.Repairs.clear();
+      slab.Gained.clear();
+      slab.Unrepairable = 0;
+    }
+    const Walks walks{ input, components, removed, region.GetSize() };
+    ForEachRemovedRunInOutput(
+      components, removed, region, outputRegion, team, [&](SizeValueType slabIndex, const RunInOutput & part) {
+        Slab & slab = m_Slabs[slabIndex];
+        if (mask != nullptr)
+        {
+          std::fill(mask + part.Offset + part.Begin, mask + part.Offset + part.End, 1);
+        }
+        for (SizeValueType x = part.Begin; x < part.End; ++x)
+        {
+          walks.CollectVotes(part, region, x, slab.Votes);
+          if (slab.Votes.empty())
+          {
+            ++slab.Unrepairable;
+            continue;
+          }
+          const TLabel label = Elect(slab.Votes);
+          ++slab.Gained[label];
+          slab.Repairs.push_back({ part.Offset + x, label });
+        }
+      });
+  }
+
+  /** Calls function(repair) for every repair found by Compute(). */
+  template <typename TFunction>
+  void
+  ForEachRepair(TFunction && function) const
+  {
+    for (const Slab & slab : m_Slabs)
+    {
+      std::for_each(slab.Repairs.begin(), slab.Repairs.end(), function);
+    }
+  }
+
+  /** The voxels repaired, those left as they were for want of a vote, and those each label
+   * gained, by Compute(). */
+  SizeValueType
+  GetNumberOfRepairs() const;
+  SizeValueType
+  GetNumberOfUnrepairableVoxels() const;
+  std::map<TLabel, SizeValueType>
+  GetGainedVoxels() const;
+
+private:
   /** The part [Begin, End) of run Run, of line Line of the input region's buffer whose first
    * voxel is at LineIndex, that lies in the output's region: voxel x of the line is at
    * Offset + x in the output's buffer. */
@@ -116,64 +180,6 @@ public:
       });
   }
 
-  /** Finds the new label of every removed voxel of \a outputRegion from \a input, the voxels of
-   * \a region. The halo's removed voxels are not written, so they are not repaired and the
-   * counts are those of the output's voxels. */
-  void
-  Compute(const TLabel *               input,
-          const Components &           components,
-          const std::vector<uint8_t> & removed,
-          const RegionType &           region,
-          const RegionType &           outputRegion,
-          WorkTeam &                   team)
-  {
-    m_Slabs.resize(SlabsFor(components.GetNumberOfLines(), team));
-    for (Slab & slab : m_Slabs)
-    {
-      slab.Repairs.clear();
-      slab.Gained.clear();
-      slab.Unrepairable = 0;
-    }
-    const Walks walks{ input, components, removed, region.GetSize() };
-    ForEachRemovedRunInOutput(
-      components, removed, region, outputRegion, team, [&](SizeValueType slabIndex, const RunInOutput & part) {
-        Slab & slab = m_Slabs[slabIndex];
-        for (SizeValueType x = part.Begin; x < part.End; ++x)
-        {
-          walks.CollectVotes(part, region, x, slab.Votes);
-          if (slab.Votes.empty())
-          {
-            ++slab.Unrepairable;
-            continue;
-          }
-          const TLabel label = Elect(slab.Votes);
-          ++slab.Gained[label];
-          slab.Repairs.push_back({ part.Offset + x, label });
-        }
-      });
-  }
-
-  /** Calls function(repair) for every repair found by Compute(). */
-  template <typename TFunction>
-  void
-  ForEachRepair(TFunction && function) const
-  {
-    for (const Slab & slab : m_Slabs)
-    {
-      std::for_each(slab.Repairs.begin(), slab.Repairs.end(), function);
-    }
-  }
-
-  /** The voxels repaired, those left as they were for want of a vote, and those each label
-   * gained, by Compute(). */
-  SizeValueType
-  GetNumberOfRepairs() const;
-  SizeValueType
-  GetNumberOfUnrepairableVoxels() const;
-  std::map<TLabel, SizeValueType>
-  GetGainedVoxels() const;
-
-private:
   struct Vote
   {
     TLabel        Label;
