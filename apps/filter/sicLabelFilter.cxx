@@ -426,6 +426,26 @@ RefuseLabelOptions(const ParsedCommandLine & arguments)
   }
 }
 
+std::vector<std::pair<std::string, LabelReport>>
+CountLabelComponents(const FilterSettings & settings, const ScalarImageInfo & info)
+{
+  return DispatchLabelImage(info, [&](auto tag) {
+    auto filter = itk::SmallIsoComponentLabelImageFilter<typename decltype(tag)::ImageType>::New();
+    filter->SetMaximumComponentSize(0);
+    filter->SetFullyConnected(settings.FullyConnected);
+    if (settings.Threads > 0)
+    {
+      filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(settings.Threads));
+    }
+    filter->InPlaceOn();
+    filter->SetInput(ReadImage<typename decltype(tag)::ImageType>(settings.Input, "input", nullptr));
+    UpdateLabelFilter(*filter, settings);
+    FilterReport report;
+    ReportLabels(*filter, report);
+    return std::move(report.Labels);
+  });
+}
+
 FilterReport
 FilterLabelMap(const FilterSettings &  settings,
                const ScalarImageInfo & info,

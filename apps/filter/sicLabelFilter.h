@@ -21,6 +21,8 @@
 #include "sicFilterReport.h"
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sic
 {
@@ -48,6 +50,12 @@ FilterLabelMap(const FilterSettings &  settings,
                const ScalarImageInfo & info,
                const StagedPaths &     staged,
                ProgressReporter &      progress);
+
+/** Every label of the label map \a info describes (settings.Input), in ascending order, as the statistics key it,
+ * with its components and their sizes: SmallIsoComponentLabelImageFilter run with K = 0, which removes nothing, with
+ * the connectivity and threads of \a settings. */
+std::vector<std::pair<std::string, LabelReport>>
+CountLabelComponents(const FilterSettings & settings, const ScalarImageInfo & info);
 } // namespace sic
 
 #endif

@@ -16,11 +16,13 @@
  *
  *=========================================================================*/
 // SmallIsoComponentReport: how many components each side of an isovalue has, how many a
-// maximum size K would remove and how many voxels that changes, for many isovalues and K.
+// maximum size K would remove and how many voxels that changes, for many isovalues and K;
+// with --labels, the same for each label of a label map.
 // The command line and --help come from DescribeTool().
 
 #include "sicCommandLine.h"
 #include "sicImageFiles.h"
+#include "sicLabelFilter.h"
 #include "sicReportCounting.h"
 #include "sicReportPlot.h"
 #include "sicReportRanges.h"
@@ -65,6 +67,7 @@ struct ReportSettings
   std::optional<double>        PlotIsoValue;
   std::uint64_t                Threads{ 0 };
   bool                         Surfaces{ true };
+  bool                         Labels{ false };
 };
 
 sic::ToolDescription
@@ -72,8 +75,8 @@ DescribeTool()
 {
   sic::ToolDescription tool;
   tool.Name = ToolName;
-  tool.Usage = "SmallIsoComponentReport INPUT --isovalue S [--isovalue S2 ...] [--isovalue-range START:STOP:STEP] "
-               "[--sizes 1,5,10,20,50] [--sizes-range START:STOP:STEP] [--fully-connected] "
+  tool.Usage = "SmallIsoComponentReport INPUT (--isovalue S [--isovalue S2 ...] [--isovalue-range START:STOP:STEP] "
+               "| --labels) [--sizes 1,5,10,20,50] [--sizes-range START:STOP:STEP] [--fully-connected] "
                "[--format markdown|csv|json] [--output FILE] [--plot FILE.png] [--plot-size K] "
                "[--plot-isovalue S] [--no-surfaces] [--threads N] [--help]";
   tool.Description =
@@ -86,16 +89,19 @@ DescribeTool()
     " For 3-D images it also runs the filter with side both at every isovalue and K and counts the connected "
     "pieces of the isosurface (VTK's Flying Edges) before and after filtering."
 #endif
-    ;
+    " With --labels, the input is a label map, and the report gives for every label its components and, for every "
+    "K, those with at most K voxels and the voxels in them: what SmallIsoComponentFilter --labels removes with that "
+    "K and --select all. One labelling serves every K.";
   tool.Positionals = { { "INPUT",
                          "The image to measure: a scalar 2-D or 3-D image with pixel type " +
-                           sic::SupportedPixelTypes() + ".",
+                           sic::SupportedPixelTypes() + "; with --labels, a label map of type " +
+                           sic::SupportedLabelPixelTypes() + ".",
                          {} } };
   tool.Options = {
     { "--isovalue",
       "S",
       "An isovalue, in the image's intensity units; may be given several times. At least one --isovalue or "
-      "--isovalue-range is required.",
+      "--isovalue-range is required, unless --labels is given.",
       "",
       {} },
     { "--isovalue-range",
@@ -109,6 +115,12 @@ DescribeTool()
       "1,5,10,20,50 unless --sizes-range is given",
       {} },
     { "--sizes-range", "START:STOP:STEP", "Adds the sizes START, START+STEP, ... up to STOP; STEP >= 1.", "", {} },
+    { "--labels",
+      "",
+      "The input is a label map (integer ids, or floating-point samples that are whole numbers): report each "
+      "label's small components instead of the sides of isovalues. No isovalue or plot is taken.",
+      "",
+      {} },
     { "--fully-connected",
       "",
       "Connect voxels that share an edge or a corner too (26 neighbours in 3-D, 8 in 2-D), not only a face.",
@@ -160,7 +172,9 @@ DescribeTool()
                   "Example: a table for three isovalues, and a sweep drawn as curves:\n"
                   "  SmallIsoComponentReport ct.nrrd --isovalue 100 --isovalue 150 --isovalue 200\n"
                   "  SmallIsoComponentReport ct.nrrd --isovalue-range 50:250:2 --sizes-range 1:100:1 \\\n"
-                  "      --format csv --output sweep.csv --plot sweep.png\n";
+                  "      --format csv --output sweep.csv --plot sweep.png\n"
+                  "and what each K would remove from each label of a segmentation:\n"
+                  "  SmallIsoComponentReport seg.nii.gz --labels --sizes 10,50,200\n";
   return tool;
 }
 
@@ -178,6 +192,18 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
   sic::CheckPositionals(tool, arguments);
   ReportSettings settings;
   settings.Input = arguments.Positionals()[0];
+  settings.Labels = arguments.Has("--labels");
+  if (settings.Labels)
+  {
+    for (const char * flag : { "--isovalue", "--isovalue-range", "--plot", "--plot-size", "--plot-isovalue" })
+    {
+      if (arguments.Has(flag))
+      {
+        throw sic::ToolError(std::string(flag) + " is not taken with --labels: a label map has no isovalue, and its "
+                                                 "report has no curves to plot");
+      }
+    }
+  }
   for (const std::string & text : arguments.Values("--isovalue"))
   {
     settings.IsoValues.push_back(sic::ParseNumber("--isovalue", text));
@@ -191,12 +217,12 @@ ReadSettings(const sic::ToolDescription & tool, const sic::ParsedCommandLine & a
     const auto range = sic::ParseNumberRange("--isovalue-range", arguments.Value("--isovalue-range"), MaximumSweep);
     settings.IsoValues.insert(settings.IsoValues.end(), range.begin(), range.end());
   }
-  if (settings.IsoValues.empty())
+  if (settings.IsoValues.empty() && !settings.Labels)
   {
     throw sic::ToolError("no isovalue; expected --isovalue S (e.g. --isovalue 150) or --isovalue-range "
                          "START:STOP:STEP");
   }
-  if (!settings.PlotIsoValue)
+  if (!settings.PlotIsoValue && !settings.Labels)
   {
     settings.PlotIsoValue = settings.IsoValues.front();
   }
@@ -333,9 +359,94 @@ MeasureImage(const ReportSettings & settings, itk::MultiThreaderBase * threader)
   return rows;
 }
 
+/** \a report (a Report or a LabelMapReport) as \a format asks: markdown, csv or json. */
+template <typename TReport>
+std::string
+ReportText(const TReport & report, const std::string & format)
+{
+  std::ostringstream text;
+  if (format == "json")
+  {
+    sic::WriteReportJson(text, report);
+  }
+  else if (format == "csv")
+  {
+    sic::WriteReportCsv(text, report);
+  }
+  else
+  {
+    sic::WriteReportMarkdown(text, report);
+  }
+  return text.str();
+}
+
+/** The label map's report, in the form settings.Format asks for. */
+std::string
+ReportLabelMap(const ReportSettings & settings, const sic::ScalarImageInfo & info)
+{
+  sic::FilterSettings counting;
+  counting.Input = settings.Input;
+  counting.FullyConnected = settings.FullyConnected;
+  counting.Threads = settings.Threads;
+  sic::LabelMapReport report;
+  report.Input = settings.Input;
+  report.Size = info.Size;
+  report.FullyConnected = settings.FullyConnected;
+  report.MaximumSizes = settings.MaximumSizes;
+  std::uint64_t voxels = 1;
+  for (const std::uint64_t extent : info.Size)
+  {
+    voxels *= extent;
+  }
+  // Sizes above the number of voxels cannot occur: the histograms stop there.
+  const std::uint64_t largestSize = std::min(settings.MaximumSizes.back(), voxels);
+  for (const auto & [label, counts] : sic::CountLabelComponents(counting, info))
+  {
+    sic::SideHistogram histogram;
+    histogram.Components = counts.Components;
+    histogram.CountOfSize.assign(largestSize + 1, 0);
+    for (const auto & [size, count] : counts.Histogram)
+    {
+      if (size <= largestSize)
+      {
+        histogram.CountOfSize[size] += count;
+      }
+    }
+    report.Labels.emplace_back(label, sic::SummarizeSide(histogram, settings.MaximumSizes));
+  }
+  return ReportText(report, settings.Format);
+}
+
+/** Writes \a text to its staged output, or to stdout once the outputs are committed when there is none. */
+int
+Deliver(const std::string &    text,
+        const ReportSettings & settings,
+        const std::string &    stagedOutput,
+        sic::StagedOutputs &   outputs)
+{
+  if (!stagedOutput.empty())
+  {
+    sic::WriteTextFile(stagedOutput, settings.Output, "report", text);
+  }
+  outputs.Commit();
+  if (stagedOutput.empty())
+  {
+    std::cout << text << std::flush;
+  }
+  return sic::ExitSuccess;
+}
+
 int
 Run(const ReportSettings & settings)
 {
+  if (settings.Labels)
+  {
+    const sic::ScalarImageInfo info = sic::ReadLabelImageInfo(settings.Input, "input");
+    sic::StagedOutputs         outputs;
+    outputs.Protect(info.Files, "the input image");
+    const std::string stagedOutput = settings.Output.empty() ? "" : outputs.Stage(settings.Output, "report");
+    return Deliver(ReportLabelMap(settings, info), settings, stagedOutput, outputs);
+  }
   const sic::ScalarImageInfo info = sic::ReadScalarImageInfo(settings.Input, "input");
   if (!settings.Plot.empty())
   {
@@ -361,19 +472,7 @@ Run(const ReportSettings & settings)
   report.Rows = sic::DispatchScalarImage(
     info, [&](auto tag) { return MeasureImage<typename decltype(tag)::ImageType>(settings, threader.GetPointer()); });
 
-  std::ostringstream text;
-  if (settings.Format == "json")
-  {
-    sic::WriteReportJson(text, report);
-  }
-  else if (settings.Format == "csv")
-  {
-    sic::WriteReportCsv(text, report);
-  }
-  else
-  {
-    sic::WriteReportMarkdown(text, report);
-  }
+  const std::string text = ReportText(report, settings.Format);
 
   if (!stagedPlot.empty())
   {
@@ -387,16 +486,7 @@ Run(const ReportSettings & settings)
                               (settings.FullyConnected ? "full" : "face") + " connectivity";
     sic::PlotReport(report, kIndex, rowIndex, stagedPlot, settings.Plot, title);
   }
-  if (!stagedOutput.empty())
-  {
-    sic::WriteTextFile(stagedOutput, settings.Output, "report", text.str());
-  }
-  outputs.Commit();
-  if (stagedOutput.empty())
-  {
-    std::cout << text.str() << std::flush;
-  }
-  return sic::ExitSuccess;
+  return Deliver(text, settings, stagedOutput, outputs);
 }
 } // namespace
 

@@ -76,6 +76,20 @@ FilteredJson(const FilteredRow & filtered, const std::vector<std::uint64_t> & ma
   return { { "side", "both" }, { "by_size", std::move(bySize) } };
 }
 
+/** "256 × 256 × 128 voxels (8388608)" for \a size. */
+std::string
+SizeText(const std::vector<std::uint64_t> & size)
+{
+  std::uint64_t voxels = 1;
+  std::string   text;
+  for (const std::uint64_t extent : size)
+  {
+    voxels *= extent;
+    text += (text.empty() ? "" : " × ") + std::to_string(extent);
+  }
+  return text + " voxels (" + std::to_string(voxels) + ")";
+}
+
 bool
 HasFiltered(const Report & report)
 {
@@ -121,16 +135,8 @@ NumberText(double value)
 void
 WriteReportMarkdown(std::ostream & stream, const Report & report)
 {
-  std::uint64_t voxels = 1;
-  std::string   size;
-  for (const std::uint64_t extent : report.Size)
-  {
-    voxels *= extent;
-    size += (size.empty() ? "" : " × ") + std::to_string(extent);
-  }
   stream << "# Small iso-components of " << report.Input << "\n\n"
-         << size << " voxels (" << voxels << "), "
-         << (report.FullyConnected ? "full connectivity" : "face connectivity")
+         << SizeText(report.Size) << ", " << (report.FullyConnected ? "full connectivity" : "face connectivity")
          << ". For each isovalue S and maximum size K: the components of each side (above: >= S, below: < S) "
             "with at most K voxels, the percentage they are of all components (above + below), and the voxels "
             "in them. Active cubes are the grid cells with corners on both sides of S.";
@@ -229,6 +235,66 @@ WriteReportJson(std::ostream & stream, const Report & report)
                           { "connectivity", report.FullyConnected ? "full" : "face" },
                           { "rows", std::move(rows) } };
   // As the filter's statistics: null for NaN, U+FFFD for bytes of the input's path that are not UTF-8.
+  stream << document.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+}
+
+void
+WriteReportMarkdown(std::ostream & stream, const LabelMapReport & report)
+{
+  stream << "# Small components of the label map " << report.Input << "\n\n"
+         << SizeText(report.Size) << ", " << (report.FullyConnected ? "full connectivity" : "face connectivity")
+         << ". For each label and maximum size K: the label's components with at most K voxels, the percentage "
+            "they are of the label's components, and the voxels in them, which the label filter removes with K "
+            "and every label selected.\n\n"
+         << "| label | components | K | removed | removed % | removed voxels |\n"
+         << "|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto & [label, row] : report.Labels)
+  {
+    for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+    {
+      stream << "| " << label << " | " << row.Components << " | " << report.MaximumSizes[k] << " | "
+             << row.RemovedComponents[k] << " | " << PercentText(row.RemovedComponents[k], row.Components) << " | "
+             << row.ModifiedVoxels[k] << " |\n";
+    }
+  }
+}
+
+void
+WriteReportCsv(std::ostream & stream, const LabelMapReport & report)
+{
+  stream << "input,connectivity,label,components,max_size,removed_components,removed_percent,removed_voxels\n";
+  const std::string prefix = CsvField(report.Input) + "," + (report.FullyConnected ? "full" : "face") + ",";
+  for (const auto & [label, row] : report.Labels)
+  {
+    for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+    {
+      stream << prefix << label << ',' << row.Components << ',' << report.MaximumSizes[k] << ','
+             << row.RemovedComponents[k] << ',' << NumberText(Percent(row.RemovedComponents[k], row.Components)) << ','
+             << row.ModifiedVoxels[k] << '\n';
+    }
+  }
+}
+
+void
+WriteReportJson(std::ostream & stream, const LabelMapReport & report)
+{
+  using Json = nlohmann::ordered_json;
+  Json labels = Json::object();
+  for (const auto & [label, row] : report.Labels)
+  {
+    Json bySize = Json::array();
+    for (size_t k = 0; k < report.MaximumSizes.size(); ++k)
+    {
+      bySize.push_back({ { "max_size", report.MaximumSizes[k] },
+                         { "removed_components", row.RemovedComponents[k] },
+                         { "removed_voxels", row.ModifiedVoxels[k] } });
+    }
+    labels[label] = { { "components", row.Components }, { "by_size", std::move(bySize) } };
+  }
+  const Json document = { { "input", report.Input },
+                          { "size", report.Size },
+                          { "connectivity", report.FullyConnected ? "full" : "face" },
+                          { "labels", std::move(labels) } };
   stream << document.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
 }
 } // namespace sic

@@ -22,6 +22,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sic
@@ -83,6 +84,20 @@ struct Report
   std::vector<ReportRow> Rows;
 };
 
+/** What removing small components would do to a label map: for every label, its components and, for every K, those of
+ * at most K voxels and the voxels in them, which SmallIsoComponentLabelImageFilter removes with K and every label
+ * selected. */
+struct LabelMapReport
+{
+  std::string                Input;
+  std::vector<std::uint64_t> Size;
+  bool                       FullyConnected{ false };
+  /** The maximum sizes K, ascending. */
+  std::vector<std::uint64_t> MaximumSizes;
+  /** Each label, as the filter's statistics key it, and its row, in ascending order of the labels. */
+  std::vector<std::pair<std::string, SideRow>> Labels;
+};
+
 /** The removal counts for every K of \a maximumSizes (ascending) from a side's histogram. */
 SideRow
 SummarizeSide(const SideHistogram & histogram, const std::vector<std::uint64_t> & maximumSizes);
@@ -107,6 +122,18 @@ WriteReportCsv(std::ostream & stream, const Report & report);
 
 void
 WriteReportJson(std::ostream & stream, const Report & report);
+
+/** The label map's report: a heading, a sentence on the map, then one table row per label and K. */
+void
+WriteReportMarkdown(std::ostream & stream, const LabelMapReport & report);
+
+/** One line per label and K, under a header line. */
+void
+WriteReportCsv(std::ostream & stream, const LabelMapReport & report);
+
+/** The labels keyed by their ids, each with its components and one entry per K. */
+void
+WriteReportJson(std::ostream & stream, const LabelMapReport & report);
 } // namespace sic
 
 #endif

@@ -2,12 +2,14 @@
 # Copyright SmallIsoComponent contributors. Licensed under the Apache License, Version 2.0.
 """Label maps in the filter tools: SmallIsoComponentFilter --labels and SmallIsoComponentLabelFilter,
 compared voxel for voxel with SmallIsoComponentLabelImageFilter run directly by the test probe
-(label-reference), on the probe's random label maps.
+(label-reference), on the probe's random label maps; and SmallIsoComponentReport --labels, compared
+with that filter run at each K.
 
 Environment (set by apps/test/CMakeLists.txt):
   SIC_FILTER        the SmallIsoComponentFilter executable
   SIC_LABEL_FILTER  the SmallIsoComponentLabelFilter executable
   SIC_PROBE         the SmallIsoComponentCLITestProbe executable
+  SIC_REPORT        the SmallIsoComponentReport executable
   SIC_SCRATCH       a directory for the tests' files
 """
 import json
@@ -22,6 +24,7 @@ from sic_tool_test import ToolTestCase, run, write_nrrd
 FILTER = os.environ.get("SIC_FILTER", "")
 LABEL_FILTER = os.environ.get("SIC_LABEL_FILTER", "")
 PROBE = os.environ.get("SIC_PROBE", "")
+REPORT = os.environ.get("SIC_REPORT", "")
 
 # The probe's label maps hold 0, 1, 2, 5 and a label of their type's own (uint8: 255, int16: -3000,
 # uint32 and uint64: the largest value, int64: -2^40, floats: -12).
@@ -240,6 +243,64 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
                     with open(self.path(name_out)) as file:
                         self.assertEqual(file.read(), "previous")
                 self.assertEqual(self.staging_leftovers(self.dir), [])
+
+    def test_report_gives_what_the_filter_removes_at_each_k(self):
+        sizes = [0, 1, 2, 3, 5, 1000]
+        maps = [("uint8", 3, ".nrrd"), ("int16", 2, ".nii.gz"), ("float32", 3, ".mha"), ("uint64", 3, ".nrrd")]
+        for seed, (pixel_type, dimension, extension) in enumerate(maps, 1):
+            source = self.make_labels("report-%d%s" % (seed, extension), pixel_type, dimension, seed)
+            for connectivity in ("face", "full"):
+                case = "%s %d-D %s connectivity" % (pixel_type, dimension, connectivity)
+                options = ["--fully-connected"] if connectivity == "full" else []
+                report = json.loads(self.check(run(REPORT, source, "--labels", "--sizes", ",".join(map(str, sizes)),
+                                                   "--format", "json", "--threads", seed, *options), case).stdout)
+                self.assertEqual(report["connectivity"], connectivity, case)
+                for index, k in enumerate(sizes):
+                    _, _, statistics = self.reference(source, k=k, connectivity=connectivity)
+                    self.assertEqual(list(report["labels"]), list(statistics["labels"]), case)
+                    for label, entry in statistics["labels"].items():
+                        row = report["labels"][label]
+                        self.assertEqual(row["components"], entry["components"], case)
+                        self.assertEqual(row["by_size"][index], {"max_size": k,
+                                                                 "removed_components": entry["removed_components"],
+                                                                 "removed_voxels": entry["removed_voxels"]},
+                                         "%s, label %s, K = %d" % (case, label, k))
+                self.assertGreater(sum(row["by_size"][1]["removed_components"] for row in report["labels"].values()),
+                                   0, case)
+
+    def test_report_forms_agree(self):
+        source = self.make_labels("report.nrrd", "int16", 3, 4)
+        report = json.loads(self.check(run(REPORT, source, "--labels", "--sizes", "2,4", "--format", "json")).stdout)
+        lines = self.check(run(REPORT, source, "--labels", "--sizes", "2,4", "--format", "csv")).stdout.splitlines()
+        self.assertEqual(lines[0], "input,connectivity,label,components,max_size,removed_components,"
+                                   "removed_percent,removed_voxels")
+        rows = [line.split(",") for line in lines[1:]]
+        self.assertEqual(len(rows), 2 * len(report["labels"]))
+        markdown = self.check(run(REPORT, source, "--labels", "--sizes", "2,4")).stdout
+        self.assertIn("# Small components of the label map", markdown)
+        for (label, entry), pair in zip(report["labels"].items(), zip(rows[0::2], rows[1::2])):
+            for by_size, row in zip(entry["by_size"], pair):
+                self.assertEqual(row[1:5], ["face", label, str(entry["components"]), str(by_size["max_size"])])
+                self.assertEqual([int(row[5]), int(row[7])], [by_size["removed_components"], by_size["removed_voxels"]])
+                self.assertAlmostEqual(float(row[6]), 100.0 * by_size["removed_components"] / entry["components"])
+                self.assertIn("| %s | %d | %d | %d |" % (label, entry["components"], by_size["max_size"],
+                                                        by_size["removed_components"]), markdown)
+
+    def test_report_option_errors(self):
+        source = self.make_labels("report.nrrd", "uint8", 2)
+        for options, words in ((["--isovalue", "1"], ["--isovalue is not taken with --labels"]),
+                               (["--isovalue-range", "1:2:1"], ["--isovalue-range is not taken with --labels"]),
+                               (["--plot", self.path("plot.png")], ["--plot is not taken with --labels"])):
+            with self.subTest(options=options):
+                self.assertUsageError(run(REPORT, source, "--labels", *options), *words)
+        write_nrrd(self.path("fraction.nrrd"), [2, 2], struct.pack("<4f", 1, 2, 2.5, 0), kind="float")
+        with open(self.path("report.md"), "w") as file:
+            file.write("previous")
+        result = run(REPORT, self.path("fraction.nrrd"), "--labels", "--output", self.path("report.md"))
+        self.assertUsageError(result, "as a label map", "[0, 1] is 2.5", "whole numbers only")
+        with open(self.path("report.md")) as file:
+            self.assertEqual(file.read(), "previous")
+        self.assertEqual(self.staging_leftovers(self.dir), [])
 
     def test_refuses_to_overwrite_the_input(self):
         source = self.make_labels("in.nrrd", "int16", 2)
