@@ -115,7 +115,7 @@ private:
       this->LineEnd(line) - 1,
       this->LineBegin(earlier),
       this->LineEnd(earlier) - 1,
-      this->GetLineLength(),
+      static_cast<typename LabelRuns<TLabel>::CoordinateType>(this->GetLineLength()),
       fullyConnected,
       [this](RunIndex a, RunIndex b) { return this->Label(a) == this->Label(b); },
       [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); });

@@ -18,9 +18,12 @@
 #ifndef itkSmallIsoComponentLabelRuns_h
 #define itkSmallIsoComponentLabelRuns_h
 
+#include "itkMacro.h"
+#include "itkNumericTraits.h"
 #include "itkSmallIsoComponentLineSlabs.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -37,6 +40,8 @@ class LabelRuns
 {
 public:
   using RunIndex = SizeValueType;
+  /** A place on a line: lines of up to 2^32 - 1 voxels, as the scalar filter's. */
+  using CoordinateType = uint32_t;
 
   /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest: each line's
    * runs counted, then written where the counts put them, both in slabs of lines shared among
@@ -44,6 +49,11 @@ public:
   void
   Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team)
   {
+    if (size[0] > NumericTraits<CoordinateType>::max())
+    {
+      itkGenericExceptionMacro("SmallIsoComponent: lines along axis 0 must have at most "
+                               << NumericTraits<CoordinateType>::max() << " voxels, not " << size[0]);
+    }
     m_Length = size[0];
     SizeValueType lines = 1;
     for (std::size_t a = 1; a < size.size(); ++a)
@@ -72,7 +82,7 @@ public:
       m_Start[run] = 0;
       m_Label[run] = row[0];
       this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
-        m_Start[++run] = x;
+        m_Start[++run] = static_cast<CoordinateType>(x);
         m_Label[run] = row[x];
       });
     });
@@ -105,7 +115,7 @@ public:
     return m_LineBegin[line + 1];
   }
   /** Where each run starts on its line, in the order of the runs. */
-  const SizeValueType *
+  const CoordinateType *
   GetStarts() const
   {
     return m_Start.data();
@@ -163,10 +173,10 @@ private:
     }
   }
 
-  SizeValueType              m_Length{ 0 };
-  std::vector<RunIndex>      m_LineBegin;
-  std::vector<SizeValueType> m_Start;
-  std::vector<TLabel>        m_Label;
+  SizeValueType               m_Length{ 0 };
+  std::vector<RunIndex>       m_LineBegin;
+  std::vector<CoordinateType> m_Start;
+  std::vector<TLabel>         m_Label;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
