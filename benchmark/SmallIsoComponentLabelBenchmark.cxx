@@ -57,6 +57,17 @@ ForegroundLabels(const LabelImageType * image)
   return foreground;
 }
 
+/** A new image of \a image's region and geometry, for a chain's output. */
+LabelImageType::Pointer
+NewImageLike(const LabelImageType * image)
+{
+  auto output = LabelImageType::New();
+  output->CopyInformation(image);
+  output->SetRegions(image->GetBufferedRegion());
+  output->Allocate();
+  return output;
+}
+
 /** The islands of every label but the background removed by ITK's own filters, one label at a
  * time, as the tools users have do it: each label thresholded, its components numbered and
  * those of at most K voxels found by relabelling, their voxels set to the background. One
@@ -77,10 +88,7 @@ public:
     m_Threshold->SetNumberOfWorkUnits(threads);
     m_Components->SetNumberOfWorkUnits(threads);
     m_Relabel->SetNumberOfWorkUnits(threads);
-    m_Output = LabelImageType::New();
-    m_Output->CopyInformation(input);
-    m_Output->SetRegions(input->GetBufferedRegion());
-    m_Output->Allocate();
+    m_Output = NewImageLike(input);
   }
 
   void
@@ -141,10 +149,7 @@ public:
     m_Relabel->SetMinimumObjectSize(MaximumSize + 1);
     m_Components->SetNumberOfWorkUnits(threads);
     m_Relabel->SetNumberOfWorkUnits(threads);
-    m_Output = LabelImageType::New();
-    m_Output->CopyInformation(input);
-    m_Output->SetRegions(input->GetBufferedRegion());
-    m_Output->Allocate();
+    m_Output = NewImageLike(input);
   }
 
   void
