@@ -26,6 +26,9 @@
 #include <cstdint>
 #include <cstring>
 #include <vector>
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
 
 namespace itk
 {
@@ -43,9 +46,9 @@ public:
   /** A place on a line: lines of up to 2^32 - 1 voxels, as the scalar filter's. */
   using CoordinateType = uint32_t;
 
-  /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest: each line's
-   * runs counted, then written where the counts put them, both in slabs of lines shared among
-   * the members of \a team. */
+  /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest. One work unit
+   * appends them as it finds them, in one pass over the image; several count each line's runs
+   * in slabs of lines, then write them where the counts put them, with no copy of the runs. */
   void
   Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team)
   {
@@ -60,14 +63,19 @@ public:
     {
       lines *= size[a];
     }
+    m_LineBegin.resize(lines + 1);
+    m_LineBegin[0] = 0;
+    if (team.GetNumberOfWorkUnits() == 1)
+    {
+      this->AppendRuns(labels, lines);
+      return;
+    }
     const auto forEachLine = [&team, lines](const auto & lineFunction) {
       ForEachLineInSlabs(team, lines, lineFunction);
     };
-    m_LineBegin.assign(lines + 1, 0);
     forEachLine([this, labels](SizeValueType line) {
-      const TLabel * const row = labels + line * m_Length;
-      RunIndex             runs = 1;
-      this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
+      RunIndex runs = 1;
+      this->ForEachRunStart(labels + line * m_Length, [&runs](SizeValueType) { ++runs; });
       m_LineBegin[line + 1] = runs;
     });
     for (SizeValueType line = 0; line < lines; ++line)
@@ -146,31 +154,94 @@ public:
   }
 
 private:
+  /** Appends the runs of the image's \a lines lines to the empty arrays, line after line. */
+  void
+  AppendRuns(const TLabel * labels, SizeValueType lines)
+  {
+    m_Start.clear();
+    m_Label.clear();
+    m_Start.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+    m_Label.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+    for (SizeValueType line = 0; line < lines; ++line)
+    {
+      const TLabel * const row = labels + line * m_Length;
+      m_Start.push_back(0);
+      m_Label.push_back(row[0]);
+      this->ForEachRunStart(row, [this, row](SizeValueType x) {
+        m_Start.push_back(static_cast<CoordinateType>(x));
+        m_Label.push_back(row[x]);
+      });
+      m_LineBegin[line + 1] = m_Start.size();
+    }
+  }
+
   /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
-   * it. A block whose bytes equal those of the block one voxel before holds no run start: the
-   * library's vector compare skips it, so a voxel inside a long run costs a fraction of a
-   * compare. (Equal bytes mean equal labels: float maps are whole numbers, never NaN.) */
+   * it. The bytes of 64 voxels' worth of the line are compared at once with those one voxel
+   * before (a line's last block overlapping the one before it); only a voxel with a differing
+   * byte is compared as a label (float maps hold whole numbers, and -0 equals 0 in bytes only). */
   template <typename TFunction>
   void
   ForEachRunStart(const TLabel * row, TFunction && function) const
   {
-    constexpr SizeValueType block = Tuning::LabelBlockBytes / sizeof(TLabel);
-    for (SizeValueType x = 1; x < m_Length;)
-    {
-      const SizeValueType end = std::min(m_Length, x + block);
-      if (end - x == block && std::memcmp(row + x, row + x - 1, Tuning::LabelBlockBytes) == 0)
+    constexpr SizeValueType block = 64 / sizeof(TLabel);
+    const auto              visit = [row, &function](SizeValueType first, uint64_t differ) {
+      while (differ != 0)
       {
-        x = end;
-        continue;
-      }
-      for (; x < end; ++x)
-      {
-        if (!(row[x] == row[x - 1]))
+        const unsigned int voxel = static_cast<unsigned int>(__builtin_ctzll(differ)) / sizeof(TLabel);
+        const unsigned int end = (voxel + 1) * sizeof(TLabel);
+        differ = end < 64 ? differ & (~uint64_t{ 0 } << end) : 0;
+        if (!(row[first + voxel] == row[first + voxel - 1]))
         {
-          function(x);
+          function(first + voxel);
         }
       }
+    };
+    SizeValueType x = 1;
+    for (; x + block <= m_Length; x += block)
+    {
+      visit(x, DifferingBytes(row + x));
     }
+    if (x < m_Length && m_Length > block)
+    {
+      const SizeValueType first = m_Length - block;
+      visit(first, DifferingBytes(row + first) & (~uint64_t{ 0 } << ((x - first) * sizeof(TLabel))));
+      return;
+    }
+    for (; x < m_Length; ++x)
+    {
+      if (!(row[x] == row[x - 1]))
+      {
+        function(x);
+      }
+    }
+  }
+
+  /** A bit for each of the 64 bytes from \a voxels that differs from the byte a voxel before. */
+  static uint64_t
+  DifferingBytes(const TLabel * voxels)
+  {
+#if defined(__SSE2__)
+    const auto * here = reinterpret_cast<const char *>(voxels);
+    const auto * before = reinterpret_cast<const char *>(voxels - 1);
+    uint64_t     equal = 0;
+    for (unsigned int i = 0; i < 4; ++i)
+    {
+      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i *>(here + 16 * i));
+      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i *>(before + 16 * i));
+      equal |= static_cast<uint64_t>(static_cast<uint16_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(a, b)))) << (16 * i);
+    }
+    return ~equal;
+#else
+    uint64_t differ = 0;
+    for (unsigned int i = 0; i < 64 / sizeof(TLabel); ++i)
+    {
+      if (std::memcmp(voxels + i, voxels + i - 1, sizeof(TLabel)) != 0)
+      {
+        differ |= uint64_t{ 1 } << (i * sizeof(TLabel));
+      }
+    }
+    return differ;
+#endif
   }
 
   SizeValueType               m_Length{ 0 };

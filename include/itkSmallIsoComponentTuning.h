@@ -59,9 +59,11 @@ constexpr SizeValueType NumberingLinesPerStep = 16;
  * append per buffer instead of one per run, with a buffer that stays cached. */
 constexpr SizeValueType CandidateBufferRuns = 256;
 
-/** Bytes of a label map's line compared at once for a change of label: more skips long runs
- * faster, fewer wastes less on lines that change often. */
-constexpr SizeValueType LabelBlockBytes = 64;
+/** A label map's run arrays are reserved for a run per this many voxels before they are
+ * written: real maps have fewer runs, so a first update does not grow them (an array that grows
+ * can leave its old blocks resident), and what is reserved but not written is address space,
+ * not memory. */
+constexpr SizeValueType VoxelsPerReservedLabelRun = 8;
 
 /** Runs per 64 voxels (over two lines) from which two lines are linked through their boundary
  * bits rather than by a merge of their runs. */

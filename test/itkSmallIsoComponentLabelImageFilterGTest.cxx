@@ -25,6 +25,7 @@
 #include "itkShiftScaleImageFilter.h"
 #include "itkStreamingImageFilter.h"
 #include "gtest/gtest.h"
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -442,6 +443,41 @@ TEST(SmallIsoComponentLabelImageFilter, RefusesSamplesThatAreNotWholeNumbers)
     {
       EXPECT_NE(std::string(error.GetDescription()).find("[3, 2]"), std::string::npos) << error.GetDescription();
     }
+  }
+}
+
+/** -0 is the label 0: a float map gives the same components, output values and mask whichever
+ * sign its zeros have (runs are found by comparing bytes first, in which the two differ). */
+TEST(SmallIsoComponentLabelImageFilter, TakesNegativeZeroAsZero)
+{
+  using ImageType = Image<float, 2>;
+  const std::array<SizeValueType, 2> size{ 150, 8 };
+  for (uint32_t seed = 7001; seed <= 7010; ++seed)
+  {
+    RandomSource             random(seed);
+    const std::vector<float> labels = DrawLabels<float, 2>(random, size, { 0.0f, 1.0f, 2.0f });
+    std::vector<float>       signedZeros = labels;
+    for (float & label : signedZeros)
+    {
+      label = label == 0.0f && random.Uniform() < 0.5 ? -0.0f : label;
+    }
+    const auto run = [&size](const std::vector<float> & map) {
+      auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
+      filter->SetInput(SmallIsoComponentTest::MakeImage<float, 2>(size, map));
+      filter->SetMaximumComponentSize(4);
+      filter->GenerateRemovedMaskOn();
+      filter->Update();
+      return filter;
+    };
+    const auto          positive = run(labels);
+    const auto          mixed = run(signedZeros);
+    const float * const a = positive->GetOutput()->GetBufferPointer();
+    const float * const b = mixed->GetOutput()->GetBufferPointer();
+    EXPECT_TRUE(std::equal(a, a + labels.size(), b)) << "seed " << seed;
+    EXPECT_EQ(SmallIsoComponentTest::CountDifferentVoxels(positive->GetRemovedMask(), mixed->GetRemovedMask()), 0u)
+      << "seed " << seed;
+    EXPECT_EQ(positive->GetLabelStatistics().at(0.0f).Components, mixed->GetLabelStatistics().at(0.0f).Components)
+      << "seed " << seed;
   }
 }
 
