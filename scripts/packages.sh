@@ -12,10 +12,11 @@ smalliso_packages=(
   gnuplot-nox             # SmallIsoComponentReport --plot
   libvtk9-dev libx11-dev  # isosurfaces, piece counts and --render (optional for the module)
   xvfb libgl1-mesa-dri    # off-screen rendering on a machine without a display
-  # The smalliso Python package (NumPy and Dask), its tests and its benchmark; its sdist and
-  # wheel (python3 -m build) and the virtual environment the tests install the wheel into
+  # The smalliso Python package (NumPy and Dask), its tests and its benchmarks (with their peers
+  # and the NIfTI reader of the label maps); its sdist and wheel (python3 -m build) and the
+  # virtual environment the tests install the wheel into
   pybind11-dev python3-dev python3-numpy python3-pytest
-  python3-dask python3-distributed python3-zarr python3-skimage
+  python3-dask python3-distributed python3-zarr python3-skimage python3-scipy python3-nibabel
   python3-setuptools python3-build python3-venv
 )
 

@@ -18,9 +18,7 @@ ITK's default threads (the machine's cores) and with one; scikit-image uses one.
 import argparse
 import json
 import os
-import subprocess
 import sys
-import time
 
 import numpy as np
 import smalliso
@@ -50,17 +48,9 @@ def run_job(tool, job, volume, isovalue, k):
 def measure(arguments):
     """One measurement, in this (fresh) process: prints its JSON on stdout."""
     volume, isovalue = volumes.load(arguments.volume, arguments.data_dir, arguments.size)
-    baseline, _ = memory.resident_bytes()
-    memory.reset_peak()
-    run_job(arguments.tool, arguments.job, volume, isovalue, arguments.k)
-    _, peak = memory.resident_bytes()
-    seconds = []
-    for _ in range(arguments.repeat):
-        begin = time.perf_counter()
-        run_job(arguments.tool, arguments.job, volume, isovalue, arguments.k)
-        seconds.append(time.perf_counter() - begin)
-    json.dump({"seconds": float(np.median(seconds)), "runs": seconds, "peak_extra_bytes": peak - baseline,
-               "volume_bytes": volume.nbytes}, sys.stdout)
+    result = memory.time_and_peak(lambda: run_job(arguments.tool, arguments.job, volume, isovalue, arguments.k),
+                                  arguments.repeat)
+    json.dump(dict(result, volume_bytes=volume.nbytes), sys.stdout)
 
 
 def agree(name, arguments):
@@ -72,11 +62,7 @@ def agree(name, arguments):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--data-dir", metavar="DATA_DIR", help="folder of the real volumes (aneurism, bonsai, lobster)")
-    parser.add_argument("--size", type=int, default=256, help="edge of the synthetic volumes (default 256)")
-    parser.add_argument("--k", type=int, default=20, help="K, the maximum component size (default 20)")
-    parser.add_argument("--repeat", type=int, default=5, help="timed runs per measurement (default 5)")
-    parser.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    memory.add_options(parser, "edge of the synthetic volumes")
     parser.add_argument("--measure", nargs=3, metavar=("VOLUME", "JOB", "TOOL"), help=argparse.SUPPRESS)
     arguments = parser.parse_args()
     if arguments.measure:
@@ -97,19 +83,12 @@ def main():
         agreement = agree(name, arguments)
         for job in JOBS:
             for tool in TOOLS:
-                command = [sys.executable, os.path.abspath(__file__), "--measure", name, job, tool,
-                           "--size", str(arguments.size), "--k", str(arguments.k), "--repeat", str(arguments.repeat)]
-                if arguments.data_dir:
-                    command += ["--data-dir", arguments.data_dir]
-                result = json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
+                result = memory.in_fresh_process(os.path.abspath(__file__), arguments, name, job, tool)
                 result.update(volume=name, job=job, tool=tool, agree=agreement[job])
                 results.append(result)
                 print(f"| {name} | {job} | {tool} | {result['seconds']:.3f} | "
                       f"{result['peak_extra_bytes'] / 2**20:.0f} | {'yes' if agreement[job] else 'NO'} |", flush=True)
-    if arguments.json:
-        with open(arguments.json, "w") as stream:
-            json.dump({"k": arguments.k, "size": arguments.size, "repeat": arguments.repeat, "cores": os.cpu_count(),
-                       "results": results}, stream, indent=2)
+    memory.write_json(arguments, results)
     return 0 if all(result["agree"] for result in results) else 1
 
 

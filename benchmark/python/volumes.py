@@ -68,3 +68,30 @@ def load(name, data_dir=None, size=256):
     if name == "blobs":
         return blobs((size,) * 3), SYNTHETIC_ISOVALUE
     return read_nrrd(os.path.join(data_dir, name + ".nrrd")), REAL_VOLUMES[name]
+
+
+# The label maps of DATA_DIR/labels: segmentations and an atlas, as the C++ label benchmark times.
+REAL_LABEL_MAPS = ("totalseg_trunk_ct_seg", "aal_atlas", "synthseg_head_seg")
+
+
+def synthetic_labels(size, labels=6, noise=0.02, seed=1):
+    """A uint16 map of ``labels`` bands along a wavy surface with a fraction ``noise`` of its voxels
+    set to random labels: islands of every label in every other, and holes."""
+    z, y, x = np.meshgrid(*(np.arange(size, dtype=np.float64),) * 3, indexing="ij")
+    height = (z + 4.0 * np.sin(0.2 * x) * np.cos(0.15 * y)) / size
+    bands = np.clip(height * labels, 0, labels - 1).astype(np.uint16)
+    random = np.random.default_rng(seed)
+    speckled = random.random(bands.shape) < noise
+    bands[speckled] = random.integers(0, labels, size=int(speckled.sum()), dtype=np.uint16)
+    return bands
+
+
+def load_labels(name, data_dir=None, size=256):
+    """A uint16 label map (shape (z, y, x)): "synthetic", or a NIfTI map of DATA_DIR/labels, read
+    with nibabel (SynthSeg's float32 map holds whole numbers)."""
+    if name == "synthetic":
+        return synthetic_labels(size)
+    import nibabel
+
+    data = np.asanyarray(nibabel.load(os.path.join(data_dir, "labels", name + ".nii.gz")).dataobj)
+    return np.ascontiguousarray(data.T).astype(np.uint16)
