@@ -136,13 +136,16 @@ SurfaceOptions(sic::FilterTool kind)
   const auto geometry = [&](const char * name, const char * label) {
     SlicerParameter slicer = Parameter("geometry", name, label, "Surfaces");
     slicer.Channel = "output";
-    slicer.FileExtensions = labelTool ? ".vtp" : ".vtp,.stl,.ply,.obj";
+    slicer.FileExtensions = ".vtp,.stl,.ply,.obj";
     return slicer;
   };
   const std::string labels =
     "a surface for each label but the background, extracted with VTK's discrete Flying Edges "
-    "(vtkDiscreteFlyingEdges3D), as .vtp with the cell-data arrays 'label' (each triangle's label id) and 'colour' "
-    "(its label's RGB colour in the pictures)";
+    "(vtkDiscreteFlyingEdges3D), all in one file: " +
+    sic::SupportedSurfaceExtensions() +
+    " by FILE's extension (.vtp keeps each triangle's label id and its label's RGB colour in the pictures, as the "
+    "cell-data arrays 'label' and 'colour'; .ply keeps the colour of each face; .stl and .obj keep the triangles "
+    "only)";
   const std::string physical = " Points are in physical LPS coordinates (millimetres), honouring the image's "
                                "spacing, origin and direction, as ITK maps voxel indices and as 3D Slicer reads "
                                "models. 3-D images only.";
@@ -190,7 +193,7 @@ DescribeTool(sic::FilterTool kind)
                            "[--select all|islands|holes|L,...] [--background L] [--max-size-of L=K,...] "
                            "[--keep-largest N] [--fully-connected] [--removed-mask FILE] [--stats FILE.json] "
 #ifdef SIC_HAVE_VTK
-                           "[--surface FILE.vtp] [--surface-before FILE.vtp] [--render FILE.png] "
+                           "[--surface FILE] [--surface-before FILE] [--render FILE.png] "
 #endif
                            "[--no-compression] [--threads N] [--quiet] [--progress-xml] [--xml] [--help]"
                          : "SmallIsoComponentFilter INPUT OUTPUT (--isovalue S [--side above|below|both] | --labels "
@@ -653,22 +656,6 @@ FilterImage(const sic::FilterSettings & settings, const StagedPaths & staged, si
   return report;
 }
 
-#ifdef SIC_HAVE_VTK
-/** Checks a surface output's format. Label surfaces carry each triangle's label, which only .vtp of the surface
- * formats keeps. */
-void
-CheckSurfaceOutput(const std::string & path, const std::string & what, bool labels)
-{
-  sic::CheckSurfaceFileFormat(path, what);
-  const std::string extension = sic::Lowercase(std::filesystem::path(path).extension().string());
-  if (labels && extension != ".vtp")
-  {
-    throw sic::ToolError("cannot write the " + what + " '" + path + "' as " + extension +
-                         ": only .vtp keeps each triangle's label; expected a .vtp file");
-  }
-}
-#endif
-
 /** The memory limit to stream under: --memory-limit, or three quarters of the available memory when
  * the input would not fit in it and every file streams; 0 to filter in memory. */
 std::uint64_t
@@ -884,7 +871,7 @@ Run(const std::string & toolName, const sic::FilterSettings & settings)
   {
     if (!path->empty())
     {
-      CheckSurfaceOutput(*path, what, settings.Labels);
+      sic::CheckSurfaceFileFormat(*path, what);
       *stagedPath = outputs.Stage(*path, what);
     }
   }

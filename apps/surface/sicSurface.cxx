@@ -309,7 +309,7 @@ ColourLabels(vtkPolyData & surface, const std::vector<std::array<unsigned char, 
 {
   vtkUnsignedIntArray & numbers = LabelNumbers(surface);
   auto                  rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  rgb->SetName("colour");
+  rgb->SetName(SurfaceColourArrayName);
   rgb->SetNumberOfComponents(3);
   rgb->SetNumberOfTuples(numbers.GetNumberOfTuples());
   for (vtkIdType triangle = 0; triangle < numbers.GetNumberOfTuples(); ++triangle)
@@ -713,6 +713,11 @@ WriteSurface(vtkPolyData &       surface,
   {
     auto writer = vtkSmartPointer<vtkPLYWriter>::New();
     writer->SetFileTypeToBinary();
+    // A label surface's triangles keep their labels' colours, as the faces' red, green and blue.
+    if (surface.GetCellData()->GetArray(SurfaceColourArrayName) != nullptr)
+    {
+      writer->SetArrayName(SurfaceColourArrayName);
+    }
     write(writer);
     // VTK's PLY reader crashes on a cut PLY file: its size is checked against its header instead.
     if (!IsCompleteBinaryPly(stagedPath, surface.GetNumberOfPoints(), surface.GetNumberOfPolys()))

@@ -126,6 +126,8 @@ ExtractIsosurface(const SurfaceGrid & grid, double isoValue);
 
 /** The name of the cell-data array that gives each triangle of a label surface its label. */
 constexpr const char * LabelArrayName = "label";
+/** The cell-data array of ColourLabels(): each triangle's RGB colour (vtkUnsignedCharArray). */
+constexpr const char * SurfaceColourArrayName = "colour";
 
 /** The surfaces of the labels of \a ordinals, a VTK_UNSIGNED_INT grid numbering the labels 1 to \a labels (0 for
  * voxels without a surface, the background), by vtkDiscreteFlyingEdges3D: one closed surface per label between its

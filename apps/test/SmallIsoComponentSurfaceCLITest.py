@@ -145,6 +145,43 @@ def expected_label_pieces():
     return {"3": 1 + len(LABEL_ISLANDS[3]) + 1, "5": 1 + len(LABEL_ISLANDS[5]) + 1}
 
 
+def ply_face_colours(path):
+    """The (red, green, blue) of every face of a binary little-endian PLY file as VTK writes it."""
+    sizes = {"char": 1, "uchar": 1, "short": 2, "ushort": 2, "int": 4, "uint": 4, "float": 4, "double": 8}
+    formats = {"uchar": "B", "int": "i", "uint": "I"}
+    with open(path, "rb") as file:
+        data = file.read()
+    header, _, body = data.partition(b"end_header\n")
+    elements = []
+    for line in header.decode("ascii").splitlines():
+        words = line.split()
+        if words[:1] == ["element"]:
+            elements.append((words[1], int(words[2]), []))
+        elif words[:1] == ["property"]:
+            elements[-1][2].append(words[1:])
+    offset, colours = 0, []
+    for name, count, properties in elements:
+        for _ in range(count):
+            values = {}
+            for prop in properties:
+                if prop[0] == "list":
+                    (n,) = struct.unpack_from("<" + formats[prop[1]], body, offset)
+                    offset += sizes[prop[1]] + n * sizes[prop[2]]
+                else:
+                    if prop[0] in formats:
+                        (values[prop[1]],) = struct.unpack_from("<" + formats[prop[0]], body, offset)
+                    offset += sizes[prop[0]]
+            if name == "face":
+                colours.append((values["red"], values["green"], values["blue"]))
+    assert offset == len(body), "PLY body size"
+    return colours
+
+
+def obj_faces(path):
+    with open(path, encoding="ascii") as file:
+        return sum(1 for line in file if line.startswith("f "))
+
+
 def is_label_3(pixel):
     r, g, b = pixel  # the palette's teal, entry 3
     return g > 60 and g > 1.25 * r and b > 1.25 * r
@@ -336,14 +373,28 @@ class SmallIsoComponentSurfaceCLITest(ToolTestCase):
                     self.assertIn(b'Name="label"', header, path)
                     self.assertIn(b'Name="colour"', header, path)
 
-    def test_label_surfaces_need_vtp(self):
+    def test_label_surfaces_in_every_format(self):
         labels = self.path("labels.nrrd")
         write_label_map(labels)
-        for option, name in (("--surface", "s.stl"), ("--surface-before", "s.ply"), ("--surface", "s.obj")):
-            with self.subTest(name=name):
-                result = run(LABEL_FILTER, labels, self.path("out.nrrd"), option, self.path(name))
-                self.assertUsageError(result, name, ".vtp")
-                self.assertEqual(sorted(os.listdir(self.dir)), ["labels.nrrd"], "nothing may be written")
+        triangles = {}
+        for extension in (".stl", ".ply", ".obj"):
+            with self.subTest(extension=extension):
+                after, before = self.path("after" + extension), self.path("before" + extension)
+                self.check(run(LABEL_FILTER, labels, self.path("out" + extension + ".nrrd"), "--max-size", "5",
+                               "--surface", after, "--surface-before", before, "--quiet"))
+                if extension == ".stl":
+                    triangles[extension] = (self.stl_triangles(before), self.stl_triangles(after))
+                elif extension == ".ply":
+                    colours = {path: ply_face_colours(path) for path in (before, after)}
+                    triangles[extension] = tuple(len(colours[path]) for path in (before, after))
+                    # Each face has its label's colour: the palette's entries 3 and 5, both labels in both files.
+                    for path in (before, after):
+                        self.assertEqual(set(colours[path]), {(118, 183, 178), (237, 201, 72)}, path)
+                else:
+                    triangles[extension] = tuple(obj_faces(path) for path in (before, after))
+        # Every format holds every label's triangles, the same ones; filtering removes some.
+        self.assertEqual(len(set(triangles.values())), 1, triangles)
+        self.assertGreater(*triangles[".stl"])
 
     def test_label_surface_failure_writes_nothing(self):
         labels = self.path("labels.nrrd")
