@@ -43,11 +43,16 @@ public:
 
   /** Finds the components of \a labels, an image of extent \a size with axis 0 fastest, with
    * the members of \a team: each links and sizes the runs of its slab of lines, then the
-   * seams between the slabs are joined and the slabs' roots moved under the components' roots. */
+   * seams between the slabs are joined and the slabs' roots moved under the components' roots.
+   * With \a copy, the image is also copied there as its runs are found (LabelRuns::Encode()). */
   void
-  Find(const TLabel * labels, const std::vector<SizeValueType> & size, bool fullyConnected, WorkTeam & team)
+  Find(const TLabel *                     labels,
+       const std::vector<SizeValueType> & size,
+       bool                               fullyConnected,
+       WorkTeam &                         team,
+       TLabel *                           copy = nullptr)
   {
-    this->Encode(labels, size, team);
+    this->Encode(labels, size, team, copy);
     const SizeValueType lines = this->GetNumberOfLines();
     const LineNeighbors neighbors(size, fullyConnected);
     // One work unit links the whole image as one slab: no seams to join.

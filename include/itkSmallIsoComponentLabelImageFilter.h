@@ -228,10 +228,14 @@ private:
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;
-  /** Copies \a labels, the voxels of \a region, into the output's region and clears the mask,
-   * line by line with the members of \a team; returns the mask's buffer (nullptr without it). */
+  /** With \a copyInput, copies \a labels, the voxels of \a region, into the output's region;
+   * clears the mask; line by line with the members of \a team. Returns the mask's buffer
+   * (nullptr without it). */
   uint8_t *
-  CopyInputAndClearMask(const LabelType * labels, const RegionType & region, SmallIsoComponentDetail::WorkTeam & team);
+  CopyInputAndClearMask(const LabelType *                   labels,
+                        const RegionType &                  region,
+                        bool                                copyInput,
+                        SmallIsoComponentDetail::WorkTeam & team);
   bool
   IsSelected(LabelType label) const;
   /** What one slab's components add to the statistics, on cache lines of their own. */

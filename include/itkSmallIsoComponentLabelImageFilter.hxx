@@ -373,12 +373,16 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
 
   const SizeType                   size = region.GetSize();
   const std::vector<SizeValueType> extent(size.begin(), size.end());
-  m_Components.Find(labels, extent, m_FullyConnected, team);
+  // The output of the whole part read (not in place) is copied as the runs are found, while each
+  // line is in cache; the output of a smaller part after the decision.
+  LabelType * const outputBuffer = this->GetOutput()->GetBufferPointer();
+  const bool        copyWithRuns = this->GetOutput()->GetBufferedRegion() == region && outputBuffer != labels;
+  m_Components.Find(labels, extent, m_FullyConnected, team, copyWithRuns ? outputBuffer : nullptr);
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals(team);
   // The output starts as the input; the repair marks the mask and finds the removed voxels' labels.
-  uint8_t * const mask = this->CopyInputAndClearMask(labels, region, team);
+  uint8_t * const mask = this->CopyInputAndClearMask(labels, region, outputBuffer != labels && !copyWithRuns, team);
   m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), mask, team);
   for (const auto & gained : m_Repair.GetGainedVoxels())
   {
@@ -397,17 +401,17 @@ template <typename TImage>
 uint8_t *
 SmallIsoComponentLabelImageFilter<TImage>::CopyInputAndClearMask(const LabelType *                   labels,
                                                                  const RegionType &                  region,
+                                                                 bool                                copyInput,
                                                                  SmallIsoComponentDetail::WorkTeam & team)
 {
   ImageType * const   output = this->GetOutput();
   const RegionType    outputRegion = output->GetBufferedRegion();
   LabelType * const   outputBuffer = output->GetBufferPointer();
-  const bool          copy = outputBuffer != labels;
   uint8_t * const     mask = m_GenerateRemovedMask ? this->GetRemovedMask()->GetBufferPointer() : nullptr;
   const SizeValueType length = outputRegion.GetSize(0);
   SmallIsoComponentDetail::ForEachLineInSlabs(
     team, SmallIsoComponentDetail::NumberOfLines(outputRegion), [&](SizeValueType line) {
-      if (copy)
+      if (copyInput)
       {
         const IndexType first = SmallIsoComponentDetail::IndexOfLine(outputRegion, line);
         std::copy_n(labels + SmallIsoComponentDetail::OffsetOf(region, first), length, outputBuffer + line * length);

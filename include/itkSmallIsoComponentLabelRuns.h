@@ -48,9 +48,10 @@ public:
 
   /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest. One work unit
    * appends them as it finds them, in one pass over the image; several count each line's runs
-   * in slabs of lines, then write them where the counts put them, with no copy of the runs. */
+   * in slabs of lines, then write them where the counts put them, with no copy of the runs.
+   * With \a copy, each line is also copied there, in the first pass, while it is in cache. */
   void
-  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team)
+  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr)
   {
     if (size[0] > NumericTraits<CoordinateType>::max())
     {
@@ -67,16 +68,17 @@ public:
     m_LineBegin[0] = 0;
     if (team.GetNumberOfWorkUnits() == 1)
     {
-      this->AppendRuns(labels, lines);
+      this->AppendRuns(labels, lines, copy);
       return;
     }
     const auto forEachLine = [&team, lines](const auto & lineFunction) {
       ForEachLineInSlabs(team, lines, lineFunction);
     };
-    forEachLine([this, labels](SizeValueType line) {
+    forEachLine([this, labels, copy](SizeValueType line) {
       RunIndex runs = 1;
       this->ForEachRunStart(labels + line * m_Length, [&runs](SizeValueType) { ++runs; });
       m_LineBegin[line + 1] = runs;
+      this->CopyLine(labels, line, copy);
     });
     for (SizeValueType line = 0; line < lines; ++line)
     {
@@ -154,9 +156,20 @@ public:
   }
 
 private:
-  /** Appends the runs of the image's \a lines lines to the empty arrays, line after line. */
+  /** Copies \a line of \a labels to \a copy, when there is one. */
   void
-  AppendRuns(const TLabel * labels, SizeValueType lines)
+  CopyLine(const TLabel * labels, SizeValueType line, TLabel * copy) const
+  {
+    if (copy != nullptr)
+    {
+      std::copy_n(labels + line * m_Length, m_Length, copy + line * m_Length);
+    }
+  }
+
+  /** Appends the runs of the image's \a lines lines to the empty arrays, line after line, and
+   * copies each line to \a copy, when there is one. */
+  void
+  AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy)
   {
     m_Start.clear();
     m_Label.clear();
@@ -172,6 +185,7 @@ private:
         m_Label.push_back(row[x]);
       });
       m_LineBegin[line + 1] = m_Start.size();
+      this->CopyLine(labels, line, copy);
     }
   }
 
