@@ -190,9 +190,9 @@ private:
   }
 
   /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
-   * it. The bytes of 64 voxels' worth of the line are compared at once with those one voxel
-   * before (a line's last block overlapping the one before it); only a voxel with a differing
-   * byte is compared as a label (float maps hold whole numbers, and -0 equals 0 in bytes only). */
+   * it. Blocks of 64 bytes of the line are compared at once with the 64 bytes one voxel before (a
+   * line's last block overlapping the one before it); only a voxel with a differing byte is
+   * compared as a label (float maps hold whole numbers, and -0 equals 0 in value only). */
   template <typename TFunction>
   void
   ForEachRunStart(const TLabel * row, TFunction && function) const
