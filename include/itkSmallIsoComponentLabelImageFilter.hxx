@@ -392,8 +392,8 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   m_NumberOfModifiedVoxels = m_Repair.GetNumberOfRepairs();
   this->UpdateProgress(0.8f);
   this->StopIfAborted();
-  LabelType * const output = this->GetOutput()->GetBufferPointer();
-  m_Repair.ForEachRepair([output](const typename Repair::Repair & repair) { output[repair.Offset] = repair.Label; });
+  m_Repair.ForEachRepair(
+    [outputBuffer](const typename Repair::Repair & repair) { outputBuffer[repair.Offset] = repair.Label; });
   this->UpdateProgress(1.0f);
 }
 
