@@ -82,16 +82,16 @@ Names(const PixelTypeEntry (&types)[VSize], std::string names)
 } // namespace
 
 const PixelTypeEntry *
-FindPixelType(itk::IOComponentEnum componentType)
+FindPixelType(itk::IOComponentEnum componentType, bool labels)
 {
-  return FindIn(SupportedTypes, componentType);
+  const PixelTypeEntry * entry = FindIn(SupportedTypes, componentType);
+  return entry == nullptr && labels ? FindIn(WideLabelTypes, componentType) : entry;
 }
 
 std::string
 PixelTypeName(itk::IOComponentEnum componentType)
 {
-  const PixelTypeEntry * entry = FindPixelType(componentType);
-  entry = entry != nullptr ? entry : FindIn(WideLabelTypes, componentType);
+  const PixelTypeEntry * entry = FindPixelType(componentType, true);
   return entry != nullptr ? entry->Name : itk::ImageIOBase::GetComponentTypeAsString(componentType);
 }
 
@@ -179,8 +179,7 @@ ReadImageInfo(const std::string & path, const std::string & what, bool labels)
                     itk::ImageIOBase::GetPixelTypeAsString(io->GetPixelType()) +
                     "); expected a scalar image, one value per voxel");
   }
-  if (FindPixelType(info.ComponentType) == nullptr &&
-      (!labels || FindIn(WideLabelTypes, info.ComponentType) == nullptr))
+  if (FindPixelType(info.ComponentType, labels) == nullptr)
   {
     throw ToolError(name + " has pixel type " + PixelTypeName(info.ComponentType) +
                     ", which is not supported; expected one of " +

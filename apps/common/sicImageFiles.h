@@ -69,9 +69,9 @@ struct PixelTypeEntry
   unsigned int         Bytes;
 };
 
-/** The entry of \a componentType, or null when the tools do not process it. */
+/** The entry of \a componentType, or null when the tools do not process it (in a label map, with \a labels). */
 const PixelTypeEntry *
-FindPixelType(itk::IOComponentEnum componentType);
+FindPixelType(itk::IOComponentEnum componentType, bool labels = false);
 
 /** "uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64", or for label maps "uint64" or "int64";
  * the ITK name for any other type. */

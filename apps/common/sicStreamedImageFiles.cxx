@@ -117,7 +117,7 @@ VolumeGeometry::PlaneVoxels() const
 unsigned int
 VolumeGeometry::PixelBytes() const
 {
-  const PixelTypeEntry * type = FindPixelType(ComponentType);
+  const PixelTypeEntry * type = FindPixelType(ComponentType, true);
   return type != nullptr ? type->Bytes : 0;
 }
 
@@ -402,7 +402,7 @@ MetaImageHeader(const VolumeGeometry & geometry,
   }
   header << "\nOffset =" << Listed(geometry.Origin) << "\nCenterOfRotation =" << Listed(std::vector<int>(n, 0))
          << "\nElementSpacing =" << Listed(geometry.Spacing) << "\nDimSize =" << Listed(geometry.Size);
-  header << "\nElementType = " << FindPixelType(geometry.ComponentType)->MetaImageName
+  header << "\nElementType = " << FindPixelType(geometry.ComponentType, true)->MetaImageName
          << "\nElementDataFile = " << dataFile << "\n";
   return header.str();
 }
@@ -412,7 +412,7 @@ NrrdHeader(const VolumeGeometry & geometry, bool compress, const std::string & d
 {
   std::ostringstream header;
   const unsigned int n = geometry.Dimension;
-  header << "NRRD0004\ntype: " << FindPixelType(geometry.ComponentType)->NrrdName << "\ndimension: " << n << "\n";
+  header << "NRRD0004\ntype: " << FindPixelType(geometry.ComponentType, true)->NrrdName << "\ndimension: " << n << "\n";
   if (n == 3)
   {
     header << "space: left-posterior-superior\n";
@@ -479,7 +479,7 @@ PlaneWriter::PlaneWriter(const std::string &    path,
   Output &          out = *m_Output;
   const std::string name = Lowercase(finalPath);
   out.Kind = ImageFileFormatOf(finalPath);
-  if (!IsStreamableImageFile(finalPath) || FindPixelType(geometry.ComponentType) == nullptr)
+  if (!IsStreamableImageFile(finalPath) || FindPixelType(geometry.ComponentType, true) == nullptr)
   {
     throw ToolError("cannot stream " + m_Name + ": " + StreamableFormats());
   }

@@ -55,11 +55,13 @@ LabelsJson(const FilterReport & report)
   Json labels = Json::object();
   for (const auto & [id, label] : report.Labels)
   {
-    labels[id] = { { "components", label.Components },
-                   { "removed_components", label.RemovedComponents },
+    // A streamed run does not count components: one may span more planes than any window holds.
+    const auto counted = [&report](Json value) { return report.Streaming ? Json() : value; };
+    labels[id] = { { "components", counted(label.Components) },
+                   { "removed_components", counted(label.RemovedComponents) },
                    { "removed_voxels", label.RemovedVoxels },
                    { "gained_voxels", label.GainedVoxels },
-                   { "size_histogram", HistogramJson(label.Histogram) } };
+                   { "size_histogram", counted(HistogramJson(label.Histogram)) } };
     for (const auto & [key, pieces] : { std::make_pair("surface_components_before", &label.SurfacePiecesBefore),
                                         std::make_pair("surface_components_after", &label.SurfacePiecesAfter),
                                         std::make_pair("removed_surface_components", &label.RemovedSurfacePieces) })
@@ -136,9 +138,13 @@ WriteSummary(std::ostream & out, const FilterSettings & settings, const FilterRe
   if (settings.Labels)
   {
     text << (settings.LabelMaximumSizes.empty() ? "" : " (some labels their own)") << ", selection "
-         << settings.Selection << ", " << (settings.FullyConnected ? "full" : "face") << " connectivity: removed "
-         << Sum(report, &SideReport::RemovedComponents) << " of " << Sum(report, &SideReport::Components)
-         << " components (" << Sum(report, &SideReport::RemovedVoxels) << " voxels); ";
+         << settings.Selection << ", " << (settings.FullyConnected ? "full" : "face") << " connectivity: removed ";
+    if (!report.Streaming)
+    {
+      text << Sum(report, &SideReport::RemovedComponents) << " of " << Sum(report, &SideReport::Components)
+           << " components (";
+    }
+    text << Sum(report, &SideReport::RemovedVoxels) << (report.Streaming ? " voxels; " : " voxels); ");
   }
   else
   {
@@ -259,17 +265,14 @@ WriteStatisticsJson(std::ostream &         out,
   statistics["unrepairable_voxels"] = report.UnrepairableVoxels;
   statistics["seconds"] = report.FilterSeconds;
   statistics["total_seconds"] = report.TotalSeconds;
-  // The scalar engine's memory figures; the label filter has neither slabs nor streaming.
+  // The scalar engine's memory figure; the label filter does not report one.
   if (!settings.Labels)
   {
     statistics["peak_extra_bytes"] = report.PeakExtraBytes;
   }
   statistics["mode"] = report.Streaming ? "streaming" : "in-memory";
-  if (!settings.Labels)
-  {
-    statistics["memory_limit_bytes"] = report.MemoryLimit > 0 ? Json(report.MemoryLimit) : Json();
-    statistics["slab_planes"] = report.SlabPlanes;
-  }
+  statistics["memory_limit_bytes"] = report.MemoryLimit > 0 ? Json(report.MemoryLimit) : Json();
+  statistics["slab_planes"] = report.SlabPlanes;
   if (report.Streaming)
   {
     statistics["read_seconds"] = report.ReadSeconds;

@@ -195,7 +195,8 @@ DescribeTool(sic::FilterTool kind)
 #ifdef SIC_HAVE_VTK
                            "[--surface FILE] [--surface-before FILE] [--render FILE.png] "
 #endif
-                           "[--no-compression] [--threads N] [--quiet] [--progress-xml] [--xml] [--help]"
+                           "[--memory-limit BYTES] [--no-compression] [--threads N] [--quiet] [--progress-xml] "
+                           "[--xml] [--help]"
                          : "SmallIsoComponentFilter INPUT OUTPUT (--isovalue S [--side above|below|both] | --labels "
                            "[--select all|islands|holes|L,...] [--background L] [--max-size-of L=K,...] "
                            "[--keep-largest N]) [--max-size K | --max-volume V] [--fully-connected] "
@@ -307,10 +308,17 @@ DescribeTool(sic::FilterTool kind)
                       "BYTES",
                       "Filter the image plane by plane along its last axis, holding at most about BYTES of memory "
                       "(a number with an optional suffix K, M, G or T, powers of 1024: 512M, 8G): for volumes "
-                      "larger than memory. The output, mask and statistics are exactly those of the in-memory "
-                      "run. Needs MetaImage (.mha, .mhd) or NRRD (.nrrd, .nhdr) input and outputs; the isosurface "
-                      "options need the whole volume and cannot be combined with it. Without it, the tool streams "
-                      "by itself, within three quarters of the available memory, when the input would not fit.",
+                      "larger than memory. " +
+                        std::string(labelTool ? "The output and mask are exactly those of the in-memory run; the "
+                                                "statistics give each label's removed and gained voxels, but not "
+                                                "its components and their sizes. "
+                                              : "The output, mask and statistics are exactly those of the "
+                                                "in-memory run (with --labels, each label's removed and gained "
+                                                "voxels, but not its components and their sizes). ") +
+                        "Needs MetaImage (.mha, .mhd) or NRRD (.nrrd, .nhdr) input and outputs; the surface options "
+                        "and --keep-largest need the whole volume and cannot be combined with it. Without it, the "
+                        "tool streams by itself, within three quarters of the available memory, when the input "
+                        "would not fit.",
                       "the whole image in memory, unless it does not fit",
                       {} };
   Option noCompression{ "--no-compression",
@@ -351,7 +359,7 @@ DescribeTool(sic::FilterTool kind)
     const std::vector<Option> surfaces = SurfaceOptions(kind);
     tool.Options.insert(tool.Options.end(), surfaces.begin(), surfaces.end());
 #endif
-    tool.Options.insert(tool.Options.end(), { noCompression, threads, quiet, progressXml });
+    tool.Options.insert(tool.Options.end(), { memoryLimit, noCompression, threads, quiet, progressXml });
     tool.Options.push_back(labelOptions.front());
   }
   else
@@ -675,10 +683,15 @@ StreamingLimit(const sic::FilterSettings & settings, const sic::ScalarImageInfo 
       throw sic::ToolError("--surface, --surface-before and --render need the whole volume in memory; they cannot be "
                            "combined with --memory-limit");
     }
+    if (settings.KeepLargest > 0)
+    {
+      throw sic::ToolError("--keep-largest needs every component whole, so the whole volume in memory; it cannot be "
+                           "combined with --memory-limit");
+    }
     return settings.MemoryLimit;
   }
-  // In memory the image is filtered in place: its voxels, the mask if asked for, and a fraction of
-  // a byte per voxel beyond.
+  // In memory the image is filtered in place: its voxels, the mask if asked for, and a fraction of a byte per
+  // voxel beyond (about two bytes for a label map).
   std::uint64_t voxels = 1;
   for (const auto size : info.Size)
   {
@@ -686,10 +699,10 @@ StreamingLimit(const sic::FilterSettings & settings, const sic::ScalarImageInfo 
   }
   sic::VolumeGeometry geometry;
   geometry.ComponentType = info.ComponentType;
-  const std::uint64_t needed =
-    voxels * geometry.PixelBytes() + (settings.RemovedMask.empty() ? 0 : voxels) + voxels / 2;
+  const std::uint64_t needed = voxels * geometry.PixelBytes() + (settings.RemovedMask.empty() ? 0 : voxels) +
+                               (settings.Labels ? 2 * voxels : voxels / 2);
   const std::uint64_t available = sic::AvailableMemoryBytes();
-  if (available > 0 && needed > available && streamable && !surfaces)
+  if (available > 0 && needed > available && streamable && !surfaces && settings.KeepLargest == 0)
   {
     return available / 4 * 3;
   }
@@ -899,11 +912,11 @@ Run(const std::string & toolName, const sic::FilterSettings & settings)
   }
   sic::ProgressReporter progress(settings.Quiet, settings.ProgressXml, toolName, comment.str());
   sic::FilterReport     report;
-  // The label filter has no streaming mode: label maps are filtered in memory.
-  const std::uint64_t limit = settings.Labels ? 0 : StreamingLimit(settings, info);
+  const std::uint64_t   limit = StreamingLimit(settings, info);
   if (settings.Labels)
   {
-    report = sic::FilterLabelMap(settings, info, staged, progress);
+    report = limit > 0 ? sic::FilterLabelMapStreamed(settings, info, staged, limit, progress)
+                       : sic::FilterLabelMap(settings, info, staged, progress);
   }
   else if (limit > 0)
   {

@@ -20,6 +20,7 @@
 
 #include "sicFilterReport.h"
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +51,18 @@ FilterLabelMap(const FilterSettings &  settings,
                const ScalarImageInfo & info,
                const StagedPaths &     staged,
                ProgressReporter &      progress);
+
+/** FilterLabelMap() plane by plane along the last axis, within about \a limit bytes of memory, for MetaImage and NRRD
+ * files: slabs of planes, each read with the planes around it that the filter asks for (twice the largest K on each
+ * side), so the output and mask are those of the in-memory run. Of the statistics, each label's removed and gained
+ * voxels, the modified and the unrepairable voxels are known; its components and their sizes are not (a component may
+ * span the whole depth). Throws ToolError when the limit is too small, or was passed before the last plane. */
+FilterReport
+FilterLabelMapStreamed(const FilterSettings &  settings,
+                       const ScalarImageInfo & info,
+                       const StagedPaths &     staged,
+                       std::uint64_t           limit,
+                       ProgressReporter &      progress);
 
 /** Every label of the label map \a info describes (settings.Input), in ascending order, as the statistics key it,
  * with its components and their sizes: SmallIsoComponentLabelImageFilter run with K = 0, which removes nothing, with

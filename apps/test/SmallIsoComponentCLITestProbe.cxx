@@ -30,9 +30,10 @@
 //   reference FILE ISOVALUE K SIDE CONNECTIVITY
 //                              the filter's statistics as JSON, K in voxels,
 //                              SIDE above|below|both, CONNECTIVITY face|full
-//   make-labels FILE TYPE DIMENSION SEED
+//   make-labels FILE TYPE DIMENSION SEED [SIZE...]
 //                              a random label map (blocks of five labels, one of them
-//                              TYPE's own, with noise); TYPE as for make, or uint64, int64
+//                              TYPE's own, with noise); TYPE as for make, or uint64, int64;
+//                              a SIZE per axis, or 23 x 19 x 13 (46 x 38 in 2-D)
 //   label-reference FILE OUTPUT MASK SELECT BACKGROUND K KEEP CONNECTIVITY SIZES
 //                              SmallIsoComponentLabelImageFilter run directly: writes its output
 //                              and mask, prints its statistics as JSON; SELECT all|islands|
@@ -50,6 +51,7 @@
 #include "itkRGBPixel.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -232,10 +234,11 @@ LabelNamed(const std::string & text)
 }
 
 /** Blocks of 3 voxels along each axis of five labels (0, 1, 2, 5 and one only TLabel holds), then one voxel in six set
- * to a random label: components of every size, islands and holes. */
+ * to a random label: components of every size, islands and holes. \a extent gives the size, or is empty for 23 x 19 x
+ * 13 voxels (46 x 38 in 2-D). */
 template <typename TImage>
 void
-MakeLabels(const std::string & path, std::uint64_t seed)
+MakeLabels(const std::string & path, std::uint64_t seed, const std::vector<std::uint64_t> & extent)
 {
   using LabelType = typename TImage::PixelType;
   constexpr unsigned int Dimension = TImage::ImageDimension;
@@ -260,7 +263,7 @@ MakeLabels(const std::string & path, std::uint64_t seed)
   const unsigned int        sizes[3] = { 23, 19, 13 };
   for (unsigned int axis = 0; axis < Dimension; ++axis)
   {
-    size[axis] = Dimension == 2 ? 2 * sizes[axis] : sizes[axis];
+    size[axis] = !extent.empty() ? extent[axis] : Dimension == 2 ? 2 * sizes[axis] : sizes[axis];
   }
   image->SetRegions(size);
   image->Allocate();
@@ -271,7 +274,7 @@ MakeLabels(const std::string & path, std::uint64_t seed)
     std::uint64_t block = 0;
     for (unsigned int axis = 0; axis < Dimension; ++axis)
     {
-      block = block * 64 + static_cast<std::uint64_t>(it.GetIndex()[axis] / 3);
+      block = block * 4096 + static_cast<std::uint64_t>(it.GetIndex()[axis] / 3);
     }
     if (blocks.count(block) == 0)
     {
@@ -424,13 +427,18 @@ Probe(int argc, char * argv[])
         file, std::stod(argv[3]), std::stoul(argv[4]), argv[5], std::string(argv[6]) == "full");
     });
   }
-  if (command == "make-labels" && argc == 6)
+  if (command == "make-labels" && (argc == 6 || argc == 6 + std::atoi(argv[4])))
   {
     sic::ScalarImageInfo info;
     info.ComponentType = ComponentTypeNamed(argv[3]);
     info.Dimension = static_cast<unsigned int>(std::stoul(argv[4]));
+    std::vector<std::uint64_t> extent;
+    for (int i = 6; i < argc; ++i)
+    {
+      extent.push_back(std::stoull(argv[i]));
+    }
     return sic::DispatchLabelImage(info, [&](auto tag) {
-      MakeLabels<typename decltype(tag)::ImageType>(argv[2], std::stoull(argv[5]));
+      MakeLabels<typename decltype(tag)::ImageType>(argv[2], std::stoull(argv[5]), extent);
       return 0;
     });
   }

@@ -14,17 +14,21 @@ Environment (set by apps/test/CMakeLists.txt):
 """
 import json
 import os
+import re
 import struct
 import sys
 import unittest
 import xml.dom.minidom
 
-from sic_tool_test import ToolTestCase, run, write_nrrd
+from sic_tool_test import USAGE_ERROR, ToolTestCase, run, write_nrrd, write_segmentation
 
 FILTER = os.environ.get("SIC_FILTER", "")
 LABEL_FILTER = os.environ.get("SIC_LABEL_FILTER", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 REPORT = os.environ.get("SIC_REPORT", "")
+# Under AddressSanitizer the process's own memory is mostly the sanitizer's and varies too much from one run to
+# the next for the thinnest slabs.
+MEMORY_UNMEASURABLE = os.environ.get("SIC_SANITIZER", "") == "address"
 
 # The probe's label maps hold 0, 1, 2, 5 and a label of their type's own (uint8: 255, int16: -3000,
 # uint32 and uint64: the largest value, int64: -2^40, floats: -12).
@@ -49,9 +53,9 @@ def load_json(path):
 
 
 class SmallIsoComponentLabelCLITest(ToolTestCase):
-    def make_labels(self, name, pixel_type, dimension, seed=1):
+    def make_labels(self, name, pixel_type, dimension, seed=1, *sizes):
         path = self.path(name)
-        self.check(run(PROBE, "make-labels", path, pixel_type, dimension, seed))
+        self.check(run(PROBE, "make-labels", path, pixel_type, dimension, seed, *sizes))
         return path
 
     def reference(self, source, select="all", background="0", k=20, keep=0, connectivity="face", sizes="-"):
@@ -153,7 +157,7 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
         for word in ("--select", "--background", "--max-size-of", "--keep-largest", "--removed-mask", "--stats",
                      "Default: all", "Exit status", "Example", "uint64"):
             self.assertIn(word, help_text)
-        for word in ("--isovalue", "--side", "--memory-limit"):
+        for word in ("--isovalue", "--side"):
             self.assertNotIn(word, help_text)
         scalar_help = self.check(run(FILTER, "--help")).stdout
         # The label surfaces exist where the scalar ones do (tools built with VTK).
@@ -170,7 +174,7 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
         longflags = {element.firstChild.data for element in document.getElementsByTagName("longflag")}
         help_flags = {line.split()[0] for line in help_text.splitlines() if line.startswith("  --")}
         self.assertEqual({flag.replace("_", "-") for flag in longflags},
-                         help_flags - {"--help", "--xml", "--no-compression", "--labels"})
+                         help_flags - {"--help", "--xml", "--no-compression", "--labels", "--memory-limit"})
 
     # Errors: one line, exit status 2, nothing written.
 
@@ -180,8 +184,9 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
         cases = [
             ([FILTER, "--labels", "--isovalue", "3"], ["--isovalue has no meaning for a label map", "expected no"]),
             ([FILTER, "--labels", "--side", "above"], ["--side has no meaning", "expected --select"]),
-            ([FILTER, "--labels", "--memory-limit", "1G"], ["--memory-limit cannot be used with --labels",
-                                                           "in memory only"]),
+            ([FILTER, "--labels", "--keep-largest", "1", "--memory-limit", "1G"],
+             ["--keep-largest needs every component whole", "cannot be combined with --memory-limit"]),
+            ([LABEL_FILTER, "--memory-limit", "1G", "--removed-mask", "m.nii"], ["stream", "MetaImage", "NRRD"]),
             ([FILTER, "--isovalue", "3", "--select", "all"], ["--select applies to label maps only",
                                                              "expected --labels"]),
             ([FILTER, "--isovalue", "3", "--background", "1"], ["--background applies to label maps only"]),
@@ -189,7 +194,6 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
             ([FILTER, "--isovalue", "3", "--keep-largest", "1"], ["--keep-largest applies to label maps only"]),
             ([LABEL_FILTER, "--isovalue", "3"], ["unknown option '--isovalue'"]),
             ([LABEL_FILTER, "--side", "both"], ["unknown option '--side'"]),
-            ([LABEL_FILTER, "--memory-limit", "1G"], ["unknown option '--memory-limit'"]),
         ]
         for arguments, words in cases:
             with self.subTest(arguments=arguments):
@@ -301,6 +305,79 @@ class SmallIsoComponentLabelCLITest(ToolTestCase):
         with open(self.path("report.md")) as file:
             self.assertEqual(file.read(), "previous")
         self.assertEqual(self.staging_leftovers(self.dir), [])
+
+    def streamed_run(self, source, output, limit, options):
+        """Streams source under limit (a MiB count) with a mask and statistics: the statistics, or None when the
+        tool refused the limit, in one line and without writing anything."""
+        stem = os.path.splitext(output)[0]
+        before = os.listdir(self.dir)
+        result = run(LABEL_FILTER, source, output, "--removed-mask", stem + "-mask.nrrd", "--stats", stem + ".json",
+                     "--memory-limit", "%dM" % limit, "--quiet", *options)
+        if result.returncode == USAGE_ERROR:
+            self.assertUsageError(result, "MiB is too small to stream this label map", "expected a larger limit")
+            self.assertEqual(os.listdir(self.dir), before)
+            return None
+        self.check(result)
+        return load_json(stem + ".json")
+
+    def assertStreamedAsInMemory(self, source, depth, options):
+        """Streams source under limits from the smallest the tool asks for up: every run that does not refuse its
+        limit gives the in-memory run's output, mask and voxel counts, and thin slabs are among them."""
+        expected, expected_mask = self.path("memory.nrrd"), self.path("memory-mask.nrrd")
+        self.check(run(LABEL_FILTER, source, expected, "--removed-mask", expected_mask, "--stats",
+                       self.path("memory.json"), "--quiet", *options))
+        in_memory = load_json(self.path("memory.json"))["statistics"]
+        self.assertGreater(in_memory["modified_voxels"], 0)
+        refusal = self.assertUsageError(run(LABEL_FILTER, source, self.path("none.nrrd"), "--memory-limit", "1M",
+                                            "--quiet", *options), "too small", "with the process itself")
+        smallest = int(re.search(r"take about (\d+) MiB", refusal).group(1))
+        slabs = set()
+        for extra in (-2, -1, 0, 1, 2, 3, 5, 8, 12, 20, 40, 200):
+            output = self.path("streamed-%d%s" % (extra, (".mha", ".nrrd", ".nhdr")[extra % 3]))
+            streamed = self.streamed_run(source, output, smallest + extra, options)
+            if streamed is None:
+                continue
+            statistics = streamed["statistics"]
+            slabs.add(statistics["slab_planes"])
+            self.assertEqual(statistics["mode"], "streaming")
+            self.assertEqual(statistics["memory_limit_bytes"], (smallest + extra) << 20)
+            self.assertEqualImages(output, expected, output)
+            self.assertEqualImages(os.path.splitext(output)[0] + "-mask.nrrd", expected_mask, output)
+            for key in ("modified_voxels", "unrepairable_voxels"):
+                self.assertEqual(statistics[key], in_memory[key], key)
+            self.assertEqual(list(statistics["labels"]), list(in_memory["labels"]))
+            for label, entry in statistics["labels"].items():
+                for key in ("removed_voxels", "gained_voxels"):
+                    self.assertEqual(entry[key], in_memory["labels"][label][key], (label, key))
+                for key in ("components", "removed_components", "size_histogram"):
+                    self.assertIsNone(entry[key], (label, key))
+        self.assertIn(depth, slabs, "the largest limit streams the map in one slab")
+        if not MEMORY_UNMEASURABLE:
+            self.assertGreaterEqual(len([slab for slab in slabs if slab < depth]), 2, slabs)
+
+    def test_streamed_label_maps_give_the_in_memory_result(self):
+        source = self.path("segmentation.nrrd")
+        write_segmentation(source, [160, 150, 40], 1)
+        for options in (["--max-size", "4"], ["--max-size", "2", "--max-size-of", "9=6,3=1", "--fully-connected"],
+                        ["--max-volume", "3.5", "--select", "islands"], ["--max-size", "5", "--select", "0,9"]):
+            with self.subTest(options=options):
+                self.assertStreamedAsInMemory(source, 40, options)
+
+    def test_streamed_2d_label_maps_give_the_in_memory_result(self):
+        source = self.path("segmentation.nrrd")
+        write_segmentation(source, [3000, 400], 2)
+        self.assertStreamedAsInMemory(source, 400, ["--max-size", "3"])
+
+    def test_streaming_keeps_every_pixel_type(self):
+        for pixel_type in ("int8", "float32", "uint64", "int64"):
+            with self.subTest(pixel_type=pixel_type):
+                source = self.make_labels("in-%s.mha" % pixel_type, pixel_type, 3, 5, 40, 30, 24)
+                expected, _, statistics = self.reference(source, k=3)
+                streamed = self.streamed_run(source, self.path("out-%s.nrrd" % pixel_type), 512, ["--max-size", "3"])
+                self.assertEqualImages(self.path("out-%s.nrrd" % pixel_type), expected, pixel_type)
+                self.assertEqual(streamed["statistics"]["modified_voxels"], statistics["modified_voxels"])
+                info = json.loads(self.check(run(PROBE, "info", self.path("out-%s.nrrd" % pixel_type))).stdout)
+                self.assertEqual(info["pixel_type"], pixel_type)
 
     def test_refuses_to_overwrite_the_input(self):
         source = self.make_labels("in.nrrd", "int16", 2)

@@ -18,9 +18,10 @@ import sys
 import unittest
 import zlib
 
-from sic_tool_test import USAGE_ERROR, ToolTestCase, noise, run
+from sic_tool_test import USAGE_ERROR, ToolTestCase, noise, run, write_segmentation
 
 FILTER = os.environ.get("SIC_FILTER", "")
+LABEL_FILTER = os.environ.get("SIC_LABEL_FILTER", "")
 PHANTOM = os.environ.get("SIC_PHANTOM", "")
 PROBE = os.environ.get("SIC_PROBE", "")
 HAVE_VTK = os.environ.get("SIC_HAVE_VTK", "0") == "1"
@@ -467,6 +468,32 @@ class SmallIsoComponentStreamingCLITest(ToolTestCase):
         self.assertUsageError(result, "the memory the tool may use (three quarters of the available memory)",
                               "the run passed it after")
         self.assertFalse(os.path.exists(output))
+
+    def test_a_label_map_larger_than_a_memory_control_group_streams_by_itself(self):
+        """A label map in a control group too small to filter it in memory streams by itself, within the group's
+        limit, and gives the in-memory result."""
+        self.skip_unless_memory_is_measurable()
+        source = self.path("labels.nrrd")
+        write_segmentation(source, [512, 512, 256], 3, period=11)  # 128 MiB of uint16 labels
+        stats = {}
+        for mode in ("memory", "streamed"):
+            stats[mode] = self.path(mode + ".json")
+            arguments = [LABEL_FILTER, source, self.path(mode + ".nrrd"), "--max-size", "6", "--removed-mask",
+                         self.path(mode + "-mask.nrrd"), "--no-compression", "--stats", stats[mode], "--quiet"]
+            if mode == "memory":
+                self.check(run(*arguments))
+                continue
+            limit = 200 << 20
+            with self.memory_control_group(limit) as inside:
+                self.check(run(*inside, *arguments))
+        memory, streamed = load_json(stats["memory"])["statistics"], load_json(stats["streamed"])["statistics"]
+        self.assertEqual(streamed["mode"], "streaming")
+        self.assertLess(streamed["slab_planes"], 256)
+        self.assertLessEqual(streamed["peak_resident_bytes"], limit)
+        self.assertGreater(memory["modified_voxels"], 0)
+        self.assertEqual(streamed["modified_voxels"], memory["modified_voxels"])
+        self.assertSameImages(self.path("streamed.nrrd"), self.path("memory.nrrd"))
+        self.assertSameImages(self.path("streamed-mask.nrrd"), self.path("memory-mask.nrrd"))
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1] + sys.argv[1:])

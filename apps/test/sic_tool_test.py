@@ -10,6 +10,7 @@ import hashlib
 import os
 import random
 import shutil
+import struct
 import subprocess
 import tempfile
 import unittest
@@ -50,6 +51,39 @@ def write_nrrd(path, sizes, data, encoding="raw", data_file=None, kind="short"):
             file.write(header + "data file: %s\n" % data_file)
         with open(os.path.join(os.path.dirname(path), data_file), "wb") as file:
             file.write(payload)
+
+
+def write_segmentation(path, sizes, seed, period=None):
+    """A uint16 NRRD like a segmentation: a disc of six labels in bands that drift from plane to plane on a background
+    of 0, and specks of random labels anywhere: one to three voxels along the first axis, or one to seven along the
+    last, which make the components whose walks and voters reach furthest across planes. With a period, the planes
+    repeat after that many (a large map made quickly)."""
+    generator = random.Random(seed)
+    width, height = sizes[0], sizes[1]
+    depth = sizes[2] if len(sizes) == 3 else 1
+    made = min(depth, period or depth)
+    voxels = []
+    for z in range(made):
+        plane = []
+        for y in range(height):
+            line = [0] * width
+            for x in range(width):
+                if (x - width // 2) ** 2 + (y - height // 2) ** 2 < (min(width, height) * 2 // 5) ** 2:
+                    line[x] = 1 + ((x + 3 * z) // 37 + y // 29) % 6
+            plane.append(line)
+        voxels.append(plane)
+    for _ in range(width * height * made // 400):
+        x, y, z = generator.randrange(width - 3), generator.randrange(height), generator.randrange(made)
+        label = generator.choice((0, 1, 2, 3, 4, 5, 6, 9))
+        along_x = generator.random() < 0.5
+        for step in range(generator.randrange(1, 4) if along_x else min(generator.randrange(1, 8), made - z)):
+            voxels[z + (0 if along_x else step)][y][x + (step if along_x else 0)] = label
+    planes = [b"".join(struct.pack("<%dH" % width, *line) for line in plane) for plane in voxels]
+    with open(path, "wb") as file:
+        file.write(("NRRD0004\ntype: ushort\ndimension: %d\nsizes: %s\nendian: little\nencoding: raw\n\n" % (
+            len(sizes), " ".join(str(size) for size in sizes))).encode())
+        for z in range(depth):
+            file.write(planes[z % made])
 
 
 # What a skipped test prints, for CTest's SKIP_REGULAR_EXPRESSION.
