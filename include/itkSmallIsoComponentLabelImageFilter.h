@@ -149,6 +149,9 @@ public:
   void
   SetMaximumComponentSizes(const LabelSizeMapType & sizes);
   itkGetConstReferenceMacro(MaximumComponentSizes, LabelSizeMapType);
+  /** K of one label, in voxels: its entry of the map above, for callers without std::map (Python). */
+  void
+  SetMaximumComponentSizeOfLabel(LabelType label, SizeValueType size);
 
   /** Which labels lose their small components. Default All. */
   itkSetEnumMacro(Selection, SelectionEnum);
@@ -185,6 +188,20 @@ public:
   /** \name What the last run found and did */
   /** @{ */
   itkGetConstReferenceMacro(LabelStatistics, LabelStatisticsMapType);
+  /** The labels of GetLabelStatistics(), ascending, and each one's statistics (zeros for another label), for
+   * callers without std::map of a struct (Python). */
+  std::vector<LabelType>
+  GetLabels() const;
+  SizeValueType
+  GetNumberOfComponents(LabelType label) const;
+  SizeValueType
+  GetNumberOfRemovedComponents(LabelType label) const;
+  SizeValueType
+  GetNumberOfRemovedVoxels(LabelType label) const;
+  SizeValueType
+  GetNumberOfGainedVoxels(LabelType label) const;
+  ComponentSizeHistogramType
+  GetComponentSizeHistogram(LabelType label) const;
   itkGetConstMacro(NumberOfModifiedVoxels, SizeValueType);
   itkGetConstMacro(NumberOfUnrepairableVoxels, SizeValueType);
   itkGetConstMacro(EffectiveMaximumComponentSize, SizeValueType);
@@ -225,6 +242,9 @@ private:
   /** Throws unless every sample of \a labels, the voxels of \a region, is a whole number. */
   void
   VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const;
+  /** The statistics of \a label, or of none. */
+  LabelStatistics
+  StatisticsOf(LabelType label) const;
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType
   ComputeEffectiveMaximumComponentSize(const SpacingType & spacing) const;

@@ -91,6 +91,71 @@ SmallIsoComponentLabelImageFilter<TImage>::SetMaximumComponentSizes(const LabelS
 
 template <typename TImage>
 void
+SmallIsoComponentLabelImageFilter<TImage>::SetMaximumComponentSizeOfLabel(LabelType label, SizeValueType size)
+{
+  LabelSizeMapType sizes = m_MaximumComponentSizes;
+  sizes[label] = size;
+  this->SetMaximumComponentSizes(sizes);
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::GetLabels() const -> std::vector<LabelType>
+{
+  std::vector<LabelType> labels;
+  for (const auto & entry : m_LabelStatistics)
+  {
+    labels.push_back(entry.first);
+  }
+  return labels;
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::StatisticsOf(LabelType label) const -> LabelStatistics
+{
+  const auto found = m_LabelStatistics.find(label);
+  return found == m_LabelStatistics.end() ? LabelStatistics() : found->second;
+}
+
+template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::GetNumberOfComponents(LabelType label) const
+{
+  return this->StatisticsOf(label).Components;
+}
+
+template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::GetNumberOfRemovedComponents(LabelType label) const
+{
+  return this->StatisticsOf(label).RemovedComponents;
+}
+
+template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::GetNumberOfRemovedVoxels(LabelType label) const
+{
+  return this->StatisticsOf(label).RemovedVoxels;
+}
+
+template <typename TImage>
+SizeValueType
+SmallIsoComponentLabelImageFilter<TImage>::GetNumberOfGainedVoxels(LabelType label) const
+{
+  return this->StatisticsOf(label).GainedVoxels;
+}
+
+template <typename TImage>
+auto
+SmallIsoComponentLabelImageFilter<TImage>::GetComponentSizeHistogram(LabelType label) const
+  -> ComponentSizeHistogramType
+{
+  return this->StatisticsOf(label).Histogram;
+}
+
+template <typename TImage>
+void
 SmallIsoComponentLabelImageFilter<TImage>::SetSelectedLabels(const std::vector<LabelType> & labels)
 {
   if (m_SelectedLabels != labels)

@@ -501,6 +501,56 @@ TEST(SmallIsoComponentLabelImageFilter, TakesKFromAVolume)
   EXPECT_EQ(filter->GetEffectiveMaximumComponentSize(), 4u);
 }
 
+TEST(SmallIsoComponentLabelImageFilter, PerLabelAccessorsAgreeWithTheMaps)
+{
+  using ImageType = Image<int16_t, 3>;
+  for (uint32_t seed = 1; seed <= 20; ++seed)
+  {
+    RandomSource                       random(seed);
+    const std::vector<int16_t>         ids = DrawIds<int16_t>(random);
+    const std::array<SizeValueType, 3> size{ 9, 7, 6 };
+    const auto image = SmallIsoComponentTest::MakeImage<int16_t, 3>(size, DrawLabels<int16_t, 3>(random, size, ids));
+    const SizeValueType k = random.Between(0, 6);
+    auto                byMap = SmallIsoComponentLabelImageFilter<ImageType>::New();
+    auto                oneByOne = SmallIsoComponentLabelImageFilter<ImageType>::New();
+    typename decltype(byMap)::ObjectType::LabelSizeMapType sizes;
+    for (auto * filter : { byMap.GetPointer(), oneByOne.GetPointer() })
+    {
+      filter->SetInput(image);
+      filter->SetMaximumComponentSize(3);
+    }
+    sizes[ids[0]] = k;
+    sizes[ids[1]] = k + 4;
+    byMap->SetMaximumComponentSizes(sizes);
+    oneByOne->SetMaximumComponentSizeOfLabel(ids[1], k + 4);
+    oneByOne->SetMaximumComponentSizeOfLabel(ids[0], k);
+    EXPECT_EQ(oneByOne->GetMaximumComponentSizes(), sizes);
+    byMap->Update();
+    oneByOne->Update();
+    const auto * expected = byMap->GetOutput()->GetBufferPointer();
+    EXPECT_TRUE(std::equal(
+      expected, expected + image->GetBufferedRegion().GetNumberOfPixels(), oneByOne->GetOutput()->GetBufferPointer()));
+    std::vector<int16_t> labels;
+    for (const auto & [label, statistics] : byMap->GetLabelStatistics())
+    {
+      labels.push_back(label);
+      EXPECT_EQ(oneByOne->GetNumberOfComponents(label), statistics.Components);
+      EXPECT_EQ(oneByOne->GetNumberOfRemovedComponents(label), statistics.RemovedComponents);
+      EXPECT_EQ(oneByOne->GetNumberOfRemovedVoxels(label), statistics.RemovedVoxels);
+      EXPECT_EQ(oneByOne->GetNumberOfGainedVoxels(label), statistics.GainedVoxels);
+      EXPECT_EQ(oneByOne->GetComponentSizeHistogram(label), statistics.Histogram);
+    }
+    EXPECT_EQ(oneByOne->GetLabels(), labels);
+    int16_t absent = 0;
+    while (std::find(labels.begin(), labels.end(), absent) != labels.end())
+    {
+      ++absent;
+    }
+    EXPECT_EQ(oneByOne->GetNumberOfComponents(absent), 0u);
+    EXPECT_TRUE(oneByOne->GetComponentSizeHistogram(absent).empty());
+  }
+}
+
 TEST(SmallIsoComponentLabelImageFilter, RefusesAnEmptyList)
 {
   using ImageType = Image<uint8_t, 2>;
