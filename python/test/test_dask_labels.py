@@ -10,7 +10,7 @@ import zarr
 import smalliso
 import smalliso.dask
 from test_dask import random_chunks
-from test_labels import IDS, LABEL_DTYPES, random_labels
+from label_reference import IDS, LABEL_DTYPES, random_labels
 
 
 def voxel_counts(stats):
