@@ -12,6 +12,7 @@ import sys
 import time
 
 import dask
+import dask.array
 import numcodecs
 import numpy as np
 import pytest
@@ -137,6 +138,17 @@ def test_the_command_gives_one_line_errors(tmp_path, monkeypatch, capsys, argume
     assert status == 2
     assert stderr.count("\n") == 1 and message in stderr, stderr
     assert not (tmp_path / "out.zarr").exists()
+
+
+def test_a_scheduler_it_cannot_reach_leaves_dask_as_it_was(tmp_path, monkeypatch, capsys):
+    save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))
+    monkeypatch.chdir(tmp_path)
+    before = dask.config.get("scheduler", None)
+    assert command.main(["in.zarr", "out.zarr", "--isovalue", "1", "--scheduler", "bogus"]) == 2
+    assert "is not a scheduler" in capsys.readouterr().err
+    assert dask.config.get("scheduler", None) == before
+    # The threaded scheduler still computes in this process.
+    assert dask.array.ones(4, chunks=2).sum().compute() == 4
 
 
 def snapshot(directory):

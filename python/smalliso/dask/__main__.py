@@ -137,7 +137,8 @@ def _scheduler(name):
     else:
         from distributed import Client
         try:
-            client = Client(name, timeout="10s")
+            # Not made Dask's default: one that fails to connect would stay the default of the process.
+            client = Client(name, timeout="10s", set_as_default=False)
         except OSError as error:
             raise ValueError(f"cannot reach a dask.distributed scheduler at --scheduler {name!r} ({error})") from None
         except (TypeError, ValueError) as error:
