@@ -21,6 +21,7 @@ import zarr
 import smalliso
 import smalliso.dask
 import smalliso.dask.__main__ as command
+from label_reference import random_labels
 from metaimage import write as write_mha
 from volumes import random_volume, same_bits, without_memory
 
@@ -116,6 +117,37 @@ def test_the_command_writes_the_statistics_of_the_command_line_tool(tmp_path):
                      smalliso.remove_small_components(volume, isovalue, 6, "above", True))
 
 
+@pytest.mark.skipif(not TOOL, reason="SmallIsoComponentFilter was not built (SMALLISO_FILTER_TOOL unset)")
+@pytest.mark.parametrize("select", ["islands", "0,5"])
+def test_the_command_cleans_label_maps_as_the_command_line_tool(tmp_path, select):
+    labels = random_labels(np.random.default_rng(6), "uint16", (10, 11, 12))
+    save(tmp_path / "in.zarr", labels, (4, 5, 6))
+    options = ["--max-size", 3, "--select", select, "--max-size-of", "12175=9,2=0", "--fully-connected"]
+    done = run_command(tmp_path / "in.zarr", tmp_path / "out.zarr", "--labels", *options, "--stats",
+                       tmp_path / "dask.json", "--removed-mask", tmp_path / "mask.zarr")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("Label map, K = 3 voxels")
+    expected, expected_mask, expected_stats = smalliso.remove_small_label_components(
+        labels, 3, True, select=select if select == "islands" else [0, 5], max_sizes={12175: 9, 2: 0},
+        return_mask=True, return_stats=True)
+    assert expected_stats["modified_voxels"] > 0
+    assert same_bits(zarr.open_array(str(tmp_path / "out.zarr"), mode="r")[...], expected)
+    assert same_bits(zarr.open_array(str(tmp_path / "mask.zarr"), mode="r")[...], expected_mask)
+    write_mha(tmp_path / "in.mha", labels)
+    subprocess.run([TOOL, str(tmp_path / "in.mha"), str(tmp_path / "out.mha"), "--labels"] + [str(o) for o in options]
+                   + ["--stats", str(tmp_path / "tool.json"), "--quiet"], check=True)
+    ours, tool = (json.load(open(tmp_path / name)) for name in ("dask.json", "tool.json"))
+    for key in ("modified_voxels", "unrepairable_voxels"):
+        assert ours["statistics"][key] == tool["statistics"][key] == expected_stats[key], key
+    changed = {label: {key: entry[key] for key in ("removed_voxels", "gained_voxels")}
+               for label, entry in tool["statistics"]["labels"].items()
+               if entry["removed_voxels"] or entry["gained_voxels"]}
+    assert ours["statistics"]["labels"] == changed
+    for key in ("labels", "effective_max_size", "selection", "background", "max_size_of", "connectivity"):
+        assert ours["parameters"][key] == tool["parameters"][key], key
+    assert ours["parameters"].get("selected_labels") == tool["parameters"].get("selected_labels")
+
+
 @pytest.mark.parametrize("arguments, message", [
     (["missing.zarr", "out.zarr", "--isovalue", "1"], "'missing.zarr' is not a Zarr array"),
     (["in.zarr", "out.zarr"], "the following arguments are required: --isovalue"),
@@ -126,6 +158,15 @@ def test_the_command_writes_the_statistics_of_the_command_line_tool(tmp_path):
     (["in.zarr", "no/such/dir/out.zarr", "--isovalue", "1"], "does not exist"),
     (["in.zarr", "out.zarr", "--isovalue", "1", "--scheduler", "bogus"],
      "--scheduler 'bogus' is not a scheduler (missing port number in address 'bogus'); expected threads"),
+    (["in.zarr", "out.zarr", "--labels", "--isovalue", "1"], "--isovalue has no meaning for a label map"),
+    (["in.zarr", "out.zarr", "--labels", "--side", "above"], "--side has no meaning for a label map"),
+    (["in.zarr", "out.zarr", "--isovalue", "1", "--select", "all"], "--select applies to label maps only"),
+    (["in.zarr", "out.zarr", "--isovalue", "1", "--max-size-of", "1=2"], "--max-size-of applies to label maps"),
+    (["in.zarr", "out.zarr", "--labels", "--select", "some"], "expected all, islands, holes or label ids"),
+    (["in.zarr", "out.zarr", "--labels", "--select", "3,300"], "300"),
+    (["in.zarr", "out.zarr", "--labels", "--background", "x"], "'x' is not a label id"),
+    (["in.zarr", "out.zarr", "--labels", "--max-size-of", "7"], "'7' is not L=K"),
+    (["in.zarr", "out.zarr", "--labels", "--max-size-of", "7=1", "--max-size-of", "7=2"], "more than one K"),
 ])
 def test_the_command_gives_one_line_errors(tmp_path, monkeypatch, capsys, arguments, message):
     save(tmp_path / "in.zarr", np.zeros((3, 4), np.uint8), (2, 2))

@@ -37,6 +37,58 @@ def _chunk_sizes(text):
     return sizes[0] if len(sizes) == 1 else sizes
 
 
+def _label_id(text):
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a label id; expected a whole number such as 3 or -1")
+
+
+def _selection(text):
+    word = text.strip().lower()
+    if word in ("all", "islands", "holes"):
+        return word
+    try:
+        return [int(item) for item in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a valid choice; expected all, islands, holes or label "
+                                         "ids such as 3,5,12")
+
+
+def _label_sizes(text):
+    sizes = {}
+    for item in text.split(","):
+        label, equals, size = item.partition("=")
+        try:
+            sizes[int(label)] = int(size)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{item!r} is not L=K; expected a label id, '=' and a size in voxels, "
+                                             "such as 7=500")
+    return sizes
+
+
+def _check_kind(parser, arguments):
+    """Exactly one kind of image, and only its options."""
+    label_options = [flag for flag, value in (("--select", arguments.select), ("--background", arguments.background),
+                                              ("--max-size-of", arguments.max_size_of)) if value is not None]
+    if arguments.labels:
+        for flag, value in (("--isovalue", arguments.isovalue), ("--side", arguments.side)):
+            if value is not None:
+                parser.error(f"{flag} has no meaning for a label map (--labels)")
+        sizes = {}
+        for given in arguments.max_size_of or []:
+            for label in given.keys() & sizes.keys():
+                parser.error(f"--max-size-of gives label {label} more than one K; expected one K per label")
+            sizes.update(given)
+        return {"select": arguments.select or "all", "background": arguments.background or 0, "max_sizes": sizes}
+    if label_options:
+        parser.error(f"{label_options[0]} applies to label maps only; expected --labels with it")
+    if arguments.isovalue is None:
+        parser.error("the following arguments are required: --isovalue (or --labels for a label map)")
+    arguments.side = arguments.side or "both"
+    return None
+
+
 def _parser():
     parser = _Parser(
         prog=f"python3 -m {TOOL}",
@@ -45,24 +97,36 @@ def _parser():
                     "writes a new Zarr array with the same shape, chunks, dtype and compressor. The result is "
                     "voxel for voxel that of SmallIsoComponentFilter on the whole array (C order: the last axis "
                     "is x). The outputs appear together, only when all are complete: each is written beside "
-                    "its path and all are then renamed into place.")
+                    "its path and all are then renamed into place. With --labels it cleans a label map instead, "
+                    "as SmallIsoComponentFilter --labels does.")
     parser.add_argument("input", metavar="IN.zarr", help="the Zarr array to filter (a directory store)")
     parser.add_argument("output", metavar="OUT.zarr",
                         help="where to write the filtered array: a new path, or an earlier output (a Zarr array and "
                              "nothing else), which is replaced; anything else there is refused")
-    parser.add_argument("--isovalue", metavar="S", type=float, required=True,
-                        help="voxels with a value >= S are above it, all others (NaN included) below; required")
+    parser.add_argument("--isovalue", metavar="S", type=float,
+                        help="voxels with a value >= S are above it, all others (NaN included) below; required "
+                             "unless --labels")
     parser.add_argument("--max-size", metavar="K", type=int, default=20,
                         help="components of at most K voxels are removed; 0 removes nothing (default 20)")
-    parser.add_argument("--side", choices=("above", "below", "both"), default="both",
+    parser.add_argument("--side", choices=("above", "below", "both"),
                         help="above removes specks, below bubbles, both does above and then below on its result "
                              "(default both)")
+    parser.add_argument("--labels", action="store_true",
+                        help="the array is a label map: each component of a selected label with at most K voxels "
+                             "is removed and each of its voxels takes the label voted by the labels around it")
+    parser.add_argument("--select", metavar="all|islands|holes|L,...", type=_selection,
+                        help="with --labels, the labels whose small components are removed: all, islands (every "
+                             "label but the background), holes (the background only) or label ids (default all)")
+    parser.add_argument("--background", metavar="L", type=_label_id,
+                        help="with --labels, the background's label id (default 0)")
+    parser.add_argument("--max-size-of", metavar="L=K[,L=K...]", type=_label_sizes, action="append",
+                        help="with --labels, label L's own K in voxels (repeatable)")
     parser.add_argument("--fully-connected", action="store_true",
                         help="connect voxels that share an edge or a corner too (26 neighbours in 3-D, 8 in 2-D), "
                              "not only a face")
     parser.add_argument("--removed-mask", metavar="MASK.zarr",
                         help="also write the mask of the changed voxels (uint8: 0 kept, 1 removed with an above "
-                             "component, 2 with a below component)")
+                             "component, 2 with a below component; with --labels 1 for every removed voxel)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default="threads",
                         help="threads, processes or synchronous (Dask's local schedulers), or the address of a "
                              "dask.distributed scheduler such as tcp://host:8786 (default threads)")
@@ -78,12 +142,8 @@ def _parser():
     return parser
 
 
-def _statistics_json(arguments, info, stats, seconds, total_seconds):
-    def side(counts):
-        return {"components": counts["components"], "removed_components": counts["removed_components"],
-                "removed_voxels": counts["removed_voxels"],
-                "size_histogram": [[size, number] for size, number in sorted(counts["size_histogram"].items())]}
-
+def _document(arguments, info, parameters, statistics):
+    """The statistics file: the input, the outputs, then ``parameters`` and ``statistics``."""
     return {
         "tool": TOOL,
         "version": smalliso.__version__,
@@ -91,19 +151,46 @@ def _statistics_json(arguments, info, stats, seconds, total_seconds):
                   "size": list(reversed(info["shape"])), "chunks": list(reversed(info["chunks"])),
                   "missing_chunks": info["missing_chunks"]},
         "outputs": {"image": arguments.output, "removed_mask": arguments.removed_mask, "stats": arguments.stats},
-        "parameters": {"isovalue": arguments.isovalue, "max_size": arguments.max_size,
-                       "effective_max_size": stats["effective_max_size"], "side": arguments.side,
-                       "connectivity": "full" if arguments.fully_connected else "face",
+        "parameters": {**parameters, "connectivity": "full" if arguments.fully_connected else "face",
                        "scheduler": arguments.scheduler, "threads": arguments.threads,
                        "chunks": list(reversed(info["task_chunks"]))},
-        "statistics": {"above": side(stats["above"]), "below": side(stats["below"]),
-                       "modified_voxels": stats["modified_voxels"],
-                       "unrepairable_voxels": stats["unrepairable_voxels"],
-                       "seconds": seconds, "total_seconds": total_seconds},
+        "statistics": statistics,
     }
 
 
+def _statistics_json(arguments, labels, info, stats, seconds, total_seconds):
+    """The statistics of SmallIsoComponentFilter in its form; a label map's (``labels``, its options) with label ids
+    as strings, as SmallIsoComponentFilter --labels writes them."""
+    def side(counts):
+        return {"components": counts["components"], "removed_components": counts["removed_components"],
+                "removed_voxels": counts["removed_voxels"],
+                "size_histogram": [[size, number] for size, number in sorted(counts["size_histogram"].items())]}
+
+    counts = {"modified_voxels": stats["modified_voxels"], "unrepairable_voxels": stats["unrepairable_voxels"],
+              "seconds": seconds, "total_seconds": total_seconds}
+    if labels is None:
+        parameters = {"isovalue": arguments.isovalue, "max_size": arguments.max_size,
+                      "effective_max_size": stats["effective_max_size"], "side": arguments.side}
+        return _document(arguments, info, parameters,
+                         {"above": side(stats["above"]), "below": side(stats["below"]), **counts})
+    listed = not isinstance(labels["select"], str)
+    parameters = {"labels": True, "max_size": arguments.max_size, "effective_max_size": stats["effective_max_size"],
+                  "selection": "listed" if listed else labels["select"]}
+    if listed:
+        parameters["selected_labels"] = [str(label) for label in labels["select"]]
+    parameters["background"] = str(labels["background"])
+    parameters["max_size_of"] = {str(label): size for label, size in labels["max_sizes"].items()}
+    return _document(arguments, info, parameters,
+                     {"labels": {str(label): entry for label, entry in stats["labels"].items()}, **counts})
+
+
 def _summary(arguments, stats, seconds):
+    if arguments.labels:
+        removed = sum(counts["removed_voxels"] for counts in stats["labels"].values())
+        return (f"Label map, K = {stats['effective_max_size']} voxels, "
+                f"{'full' if arguments.fully_connected else 'face'} connectivity: removed {removed} voxels; "
+                f"{stats['modified_voxels']} voxels modified, {stats['unrepairable_voxels']} unrepairable. "
+                f"Filter {seconds:.3f} s ({arguments.scheduler}).")
     above, below = stats["above"], stats["below"]
     return (f"Isovalue {arguments.isovalue:g}, K = {stats['effective_max_size']} voxels, side {arguments.side}, "
             f"{'full' if arguments.fully_connected else 'face'} connectivity: removed "
@@ -189,7 +276,9 @@ def main(argv=None):
     start = time.perf_counter()
     # The command's process only runs the filter: its tasks may keep what they free for the next.
     smalliso._core.keep_freed_memory()
-    arguments = _parser().parse_args(argv)
+    parser = _parser()
+    arguments = parser.parse_args(argv)
+    labels = _check_kind(parser, arguments)
     outputs = [arguments.output] + ([arguments.removed_mask] if arguments.removed_mask is not None else [])
     files = [arguments.stats] if arguments.stats is not None else []
     handlers = {signum: signal.signal(signum, _stop) for signum in _SIGNALS}
@@ -208,14 +297,15 @@ def main(argv=None):
                 stats, staged = filter_into_staging(
                     arguments.input, arguments.output, arguments.isovalue, arguments.max_size, arguments.side,
                     arguments.fully_connected, removed_mask=arguments.removed_mask, client=client,
-                    progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks)
+                    progress=not arguments.quiet, threads=arguments.threads, chunks=arguments.chunks, labels=labels)
                 seconds = time.perf_counter() - begin
             info = {"dtype": str(stored.dtype), "shape": list(stored.shape), "chunks": list(stored.chunks),
                     "missing_chunks": missing,
                     "task_chunks": [extents[0] for extents in normalize_chunks(
                         stored.chunks if arguments.chunks is None else arguments.chunks, stored.shape)]}
             if arguments.stats is not None:
-                document = _statistics_json(arguments, info, stats, seconds, time.perf_counter() - start)
+                total = time.perf_counter() - start
+                document = _statistics_json(arguments, labels, info, stats, seconds, total)
                 staged.stage_file(arguments.stats, _json_text(document) + "\n")
             with _signals_held():
                 staged.commit()

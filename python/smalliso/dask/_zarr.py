@@ -18,6 +18,7 @@ from dask.base import tokenize
 
 from .. import _arguments
 from ._graph import remove_small_components
+from ._labels import remove_small_label_components
 
 # The names a Zarr array's directory holds: its metadata, and chunk keys ("0.1.2", or "0/1/2"
 # with nested directories).
@@ -49,9 +50,25 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
     the input or the other output. Anything else there is refused with a ValueError before any
     work, so nothing but an earlier Zarr array is ever replaced.
     """
-    statistics, staged = filter_into_staging(
+    return _commit(filter_into_staging(
         source, target, isovalue, max_size, side, fully_connected, max_volume=max_volume, spacing=spacing,
-        removed_mask=removed_mask, client=client, progress=progress, threads=threads, chunks=chunks)
+        removed_mask=removed_mask, client=client, progress=progress, threads=threads, chunks=chunks))
+
+
+def remove_small_label_components_zarr(source, target, max_size=20, fully_connected=False, *, select="all",
+                                       background=0, max_sizes=None, max_volume=None, spacing=None,
+                                       removed_mask=None, client=None, progress=False, threads=1, chunks=None):
+    """``remove_small_components_zarr`` for a label map: the Zarr array at ``source`` filtered by
+    ``smalliso.dask.remove_small_label_components`` (whose parameters these are) into ``target``,
+    and the statistics returned; the mask, if asked for, marks the removed voxels with 1."""
+    labels = {"select": select, "background": background, "max_sizes": max_sizes}
+    return _commit(filter_into_staging(
+        source, target, None, max_size, None, fully_connected, max_volume=max_volume, spacing=spacing,
+        removed_mask=removed_mask, client=client, progress=progress, threads=threads, chunks=chunks, labels=labels))
+
+
+def _commit(filtered):
+    statistics, staged = filtered
     try:
         staged.commit()
     finally:
@@ -61,10 +78,11 @@ def remove_small_components_zarr(source, target, isovalue, max_size=20, side="bo
 
 def filter_into_staging(source, target, isovalue, max_size=20, side="both", fully_connected=False, *,
                         max_volume=None, spacing=None, removed_mask=None, client=None, progress=False, threads=1,
-                        chunks=None):
+                        chunks=None, labels=None):
     """``remove_small_components_zarr`` up to the commit: the statistics and the outputs staged
     beside their paths (a ``StagedOutputs``), which the caller commits or discards. Nothing is
-    left staged if it fails."""
+    left staged if it fails. With ``labels`` (the label options ``select``, ``background`` and
+    ``max_sizes``), the array is a label map and ``isovalue`` and ``side`` are not used."""
     source = os.fspath(source)
     # Normalized, so that the path renamed into place is the one checked ("out.zarr/." is out.zarr,
     # and a link's "link/." the link).
@@ -72,9 +90,11 @@ def filter_into_staging(source, target, isovalue, max_size=20, side="both", full
     check_paths(source, outputs)
     stored = open_input(source)
 
-    parts = remove_small_components(_CheckedInput(stored, source), isovalue, max_size, side, fully_connected,
-                                    max_volume=max_volume, spacing=spacing, return_mask=removed_mask is not None,
-                                    return_stats=True, threads=threads, chunks=chunks)
+    options = dict(max_volume=max_volume, spacing=spacing, return_mask=removed_mask is not None, return_stats=True,
+                   threads=threads, chunks=chunks)
+    checked = _CheckedInput(stored, source)
+    parts = (remove_small_components(checked, isovalue, max_size, side, fully_connected, **options) if labels is None
+             else remove_small_label_components(checked, max_size, fully_connected, **labels, **options))
     for extents, stored_extent in zip(parts[0].chunks, stored.chunks):
         if any(extent % stored_extent for extent in extents[:-1]):
             raise ValueError(f"the tasks' chunks {parts[0].chunksize} must be whole multiples of the stored chunks "
