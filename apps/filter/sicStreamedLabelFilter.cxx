@@ -39,8 +39,8 @@ using Clock = std::chrono::steady_clock;
  * A map of noise, every voxel a component of its own, takes up to about 56; a run that passes the limit stops. */
 constexpr std::uint64_t PlannedWorkingBytesPerVoxel = 4;
 
-/** The planes [First(), First() + Count()) of an image, read in order through \a reader: every plane is read once
- * and kept while the windows ask for it. */
+/** A window on an image's planes, read in order through \a reader: every plane is read once and kept while the
+ * windows ask for it. */
 template <typename TLabel>
 class PlaneWindow
 {
