@@ -243,7 +243,7 @@ private:
   void
   VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const;
   /** The statistics of \a label, or of none. */
-  LabelStatistics
+  const LabelStatistics &
   StatisticsOf(LabelType label) const;
   /** K: MaximumComponentSize, or MaximumComponentVolume in voxels of \a spacing. */
   SizeValueType

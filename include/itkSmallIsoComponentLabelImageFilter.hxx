@@ -112,10 +112,11 @@ SmallIsoComponentLabelImageFilter<TImage>::GetLabels() const -> std::vector<Labe
 
 template <typename TImage>
 auto
-SmallIsoComponentLabelImageFilter<TImage>::StatisticsOf(LabelType label) const -> LabelStatistics
+SmallIsoComponentLabelImageFilter<TImage>::StatisticsOf(LabelType label) const -> const LabelStatistics &
 {
-  const auto found = m_LabelStatistics.find(label);
-  return found == m_LabelStatistics.end() ? LabelStatistics() : found->second;
+  static const LabelStatistics none;
+  const auto                   found = m_LabelStatistics.find(label);
+  return found == m_LabelStatistics.end() ? none : found->second;
 }
 
 template <typename TImage>
