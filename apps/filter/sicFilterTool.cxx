@@ -728,10 +728,7 @@ LimitTooSmall(const sic::FilterSettings & settings,
               const StreamingPlan &       plan,
               const std::string &         why)
 {
-  const std::string what = settings.MemoryLimit > 0 ? "--memory-limit "
-                                                    : "the memory the tool may use (three quarters "
-                                                      "of the available memory), ";
-  return sic::ToolError(what + std::to_string(limit >> 20) + " MiB is too small to stream this image with K = " +
+  return sic::ToolError(sic::MemoryLimitText(settings, limit) + " is too small to stream this image with K = " +
                         std::to_string(maximumSize) + ": " + why + " and at most about " +
                         std::to_string((plan.BoundBytes >> 20) + 2) + " MiB; expected a larger limit or a smaller K");
 }

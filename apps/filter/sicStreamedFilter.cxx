@@ -223,6 +223,14 @@ ParseByteCount(const std::string & text, const std::string & option)
   return number << shift;
 }
 
+std::string
+MemoryLimitText(const FilterSettings & settings, std::uint64_t limit)
+{
+  return (settings.MemoryLimit > 0 ? "--memory-limit "
+                                   : "the memory the tool may use (three quarters of the available memory), ") +
+         std::to_string(limit >> 20) + " MiB";
+}
+
 unsigned int
 StreamingWorkUnits(const FilterSettings & settings)
 {

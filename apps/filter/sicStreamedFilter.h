@@ -32,6 +32,11 @@ namespace sic
 std::uint64_t
 ParseByteCount(const std::string & text, const std::string & option);
 
+/** The limit a streamed run keeps to, as its errors name it: "--memory-limit N MiB", or the share of the available
+ * memory the tool took by itself. */
+std::string
+MemoryLimitText(const FilterSettings & settings, std::uint64_t limit);
+
 /** The work units the streaming mode runs with: --threads, or ITK's default. */
 unsigned int
 StreamingWorkUnits(const FilterSettings & settings);

@@ -140,10 +140,7 @@ HaloPlanes(TFilter & filter, const VolumeGeometry & geometry)
 ToolError
 LimitTooSmall(const FilterSettings & settings, std::uint64_t limit, const std::string & why)
 {
-  const std::string what = settings.MemoryLimit > 0 ? "--memory-limit "
-                                                    : "the memory the tool may use (three quarters of the available "
-                                                      "memory), ";
-  return ToolError(what + std::to_string(limit >> 20) + " MiB is too small to stream this label map: " + why +
+  return ToolError(MemoryLimitText(settings, limit) + " is too small to stream this label map: " + why +
                    "; expected a larger limit or a smaller K");
 }
 
