@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
@@ -212,6 +213,36 @@ SyntheticLabels(itk::SizeValueType n, unsigned int labels, double noise, uint32_
   return image;
 }
 
+/** The filter the benchmark times: the islands of every label but 0, K = MaximumSize, face connectivity, with the
+ * mask. */
+template <typename TImage>
+typename itk::SmallIsoComponentLabelImageFilter<TImage>::Pointer
+IslandsFilter(const TImage * input, unsigned int threads)
+{
+  auto filter = itk::SmallIsoComponentLabelImageFilter<TImage>::New();
+  filter->SetInput(input);
+  filter->SetMaximumComponentSize(MaximumSize);
+  filter->SetSelection(itk::SmallIsoComponentLabelEnums::Selection::Islands);
+  filter->SetNumberOfWorkUnits(threads);
+  filter->GenerateRemovedMaskOn();
+  return filter;
+}
+
+/** One row of the table: \a faults as text ("-" where they are not counted). */
+void
+PrintRow(const std::string & name,
+         itk::SizeValueType  voxels,
+         const std::string & peer,
+         unsigned int        threads,
+         double              ms,
+         const std::string & faults,
+         double              ratio)
+{
+  std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
+            << std::setw(22) << peer << std::right << std::setw(3) << threads << std::fixed << std::setprecision(1)
+            << std::setw(10) << ms << std::setw(10) << faults << std::setprecision(2) << std::setw(8) << ratio << '\n';
+}
+
 using WideLabelImageType = itk::Image<uint32_t, 3>;
 
 /** A map of \a cells cells like a connectomics segmentation's: each voxel takes the cell of the nearest of seeds
@@ -295,12 +326,7 @@ MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, uns
     std::vector<FilterType::Pointer>           filters;
     for (const WideLabelImageType * input : std::array<const WideLabelImageType *, 2>{ dense, sparse.GetPointer() })
     {
-      auto filter = FilterType::New();
-      filter->SetInput(input);
-      filter->SetMaximumComponentSize(MaximumSize);
-      filter->SetSelection(itk::SmallIsoComponentLabelEnums::Selection::Islands);
-      filter->SetNumberOfWorkUnits(threads);
-      filter->GenerateRemovedMaskOn();
+      auto filter = IslandsFilter(input, threads);
       filter->Update();
       filters.push_back(filter);
     }
@@ -318,10 +344,7 @@ MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, uns
     const double denseMs = sic::Median(ms["smalliso-labels dense"]);
     for (const auto & [peer, times] : ms)
     {
-      std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
-                << std::setw(22) << peer << std::right << std::setw(3) << threads << std::fixed << std::setprecision(1)
-                << std::setw(10) << sic::Median(times) << std::setw(10) << "-" << std::setprecision(2) << std::setw(8)
-                << sic::Median(times) / denseMs << '\n';
+      PrintRow(name, voxels, peer, threads, sic::Median(times), "-", sic::Median(times) / denseMs);
     }
   }
   if (!agree)
@@ -344,19 +367,13 @@ Read(const std::string & path)
 bool
 Measure(const std::string & name, const LabelImageType * input, unsigned int repeat)
 {
-  using FilterType = itk::SmallIsoComponentLabelImageFilter<LabelImageType>;
   const itk::SizeValueType voxels = input->GetBufferedRegion().GetNumberOfPixels();
   std::map<std::pair<std::string, unsigned int>, std::vector<sic::Sample>> samples;
   bool                                                                     agree = true;
   std::vector<LabelType>                                                   copy(voxels);
   for (unsigned int threads : { 1u, 2u })
   {
-    auto filter = FilterType::New();
-    filter->SetInput(input);
-    filter->SetMaximumComponentSize(MaximumSize);
-    filter->SetSelection(itk::SmallIsoComponentLabelEnums::Selection::Islands);
-    filter->SetNumberOfWorkUnits(threads);
-    filter->GenerateRemovedMaskOn();
+    auto                  filter = IslandsFilter(input, threads);
     PerLabelChain         chain(input, threads);
     ScalarComponentsChain scalar(input, threads);
     // The first update of each, whose new buffers take page faults as a one-off run's do.
@@ -402,10 +419,9 @@ Measure(const std::string & name, const LabelImageType * input, unsigned int rep
       }
       return sic::Median(reference);
     }();
-    std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
-              << std::setw(22) << entry.first.first << std::right << std::setw(3) << entry.first.second << std::fixed
-              << std::setprecision(1) << std::setw(10) << sic::Median(ms) << std::setw(10) << sic::Median(faults)
-              << std::setprecision(2) << std::setw(8) << sic::Median(ms) / ours << '\n';
+    char faultsText[32];
+    std::snprintf(faultsText, sizeof(faultsText), "%.1f", sic::Median(faults));
+    PrintRow(name, voxels, entry.first.first, entry.first.second, sic::Median(ms), faultsText, sic::Median(ms) / ours);
   }
   if (!agree)
   {
