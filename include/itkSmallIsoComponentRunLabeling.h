@@ -73,7 +73,7 @@ namespace SmallIsoComponentDetail
  *
  * \ingroup SmallIsoComponent
  */
-class SmallIsoComponent_EXPORT alignas(64) RunLabeling
+class SmallIsoComponent_EXPORT RunLabeling
 {
 public:
   using RunIndexType = RunLinking::RunIndexType;
@@ -253,7 +253,8 @@ protected:
   /** @} */
 
 private:
-  std::vector<SizeValueType> m_Size;
+  // The aligned member aligns the object: GCC refuses alignas on an exported class.
+  alignas(64) std::vector<SizeValueType> m_Size;
   SizeValueType              m_NumberOfLines{ 0 };
   bool                       m_FullyConnected{ false };
   std::vector<SizeValueType> m_SlabBeginLine;
