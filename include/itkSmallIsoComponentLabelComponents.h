@@ -32,8 +32,8 @@ namespace SmallIsoComponentDetail
 /** \class LabelComponents
  * The components of a label image: each line's runs of one label, joined with the runs of
  * the same label they touch on neighbouring lines (LineNeighbors says which lines those are).
- * After Find() every run points at its component's root, the component's smallest run, which
- * holds the component's size.
+ * After Find() every run points at its component's root, the component's smallest run; the
+ * sizes are kept per root, not per run, and a removed component is marked at its root.
  * \ingroup SmallIsoComponent */
 template <typename TLabel>
 class LabelComponents : public LabelRuns<TLabel>
@@ -59,11 +59,10 @@ public:
     const SizeValueType slabs =
       team.GetNumberOfWorkUnits() > 1 ? SlabsFor(lines, team) : std::min<SizeValueType>(lines, 1);
     m_Parent.resize(this->GetNumberOfRuns());
-    m_Size.resize(this->GetNumberOfRuns());
     m_SlabRoots.resize(slabs);
     ForEachSlabOfLines(team, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
       this->LinkSlab(neighbors, fullyConnected, begin, end);
-      this->SizeSlab(begin, end, m_SlabRoots[slab].Roots);
+      this->SizeSlab(begin, end, m_SlabRoots[slab]);
     });
     if (slabs > 1)
     {
@@ -81,17 +80,18 @@ public:
     return m_SlabRoots.size();
   }
 
-  /** Calls function(root) for the root of every component whose root is in \a slab, in the
-   * order of the roots. */
+  /** Calls function(root, size) for the root of every component whose root is in \a slab, in
+   * the order of the roots, with the component's number of voxels. */
   template <typename TFunction>
   void
   ForEachComponentOfSlab(SizeValueType slab, TFunction && function) const
   {
-    for (const RunIndex root : m_SlabRoots[slab].Roots)
+    const SlabRoots & roots = m_SlabRoots[slab];
+    for (std::size_t i = 0; i < roots.Roots.size(); ++i)
     {
-      if (m_Parent[root] == root)
+      if (this->Component(roots.Roots[i]) == roots.Roots[i])
       {
-        function(root);
+        function(roots.Roots[i], roots.Sizes[i]);
       }
     }
   }
@@ -100,16 +100,31 @@ public:
   RunIndex
   Component(RunIndex run) const
   {
-    return m_Parent[run];
+    return m_Parent[run] & ~Marked;
   }
-  /** The number of voxels of the component whose root is \a root. */
-  SizeValueType
-  Size(RunIndex root) const
+
+  /** Marks the component whose root is \a root as removed. */
+  void
+  MarkRemoved(RunIndex root)
   {
-    return m_Size[root];
+    m_Parent[root] |= Marked;
+  }
+  /** Whether \a run's component was marked removed. */
+  bool
+  IsRemoved(RunIndex run) const
+  {
+    return (m_Parent[this->Component(run)] & Marked) != 0;
   }
 
 private:
+  /** A slab's roots and their sizes, on cache lines of their own: the work units add to theirs
+   * at once. */
+  struct alignas(64) SlabRoots
+  {
+    std::vector<RunIndex>      Roots;
+    std::vector<SizeValueType> Sizes;
+  };
+
   /** Joins the runs of \a line with the runs of the same label they touch on line \a earlier. */
   void
   JoinLines(SizeValueType line, SizeValueType earlier, bool fullyConnected)
@@ -160,25 +175,57 @@ private:
       neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier >= begin; });
   }
 
-  /** Points every run of the lines [begin, end) at its root in the slab and adds its voxels to
-   * the root's size; lists the slab's roots in \a roots. A run's parent is an earlier run, so
-   * it points at its root already when the run's turn comes. */
+  /** Points every run of the lines [begin, end) at its root in the slab and lists the slab's
+   * roots with their sizes. A run's parent is an earlier run, so it points at its root already
+   * when the run's turn comes; meanwhile a root's own entry holds its size, marked. */
   void
-  SizeSlab(SizeValueType begin, SizeValueType end, std::vector<RunIndex> & roots)
+  SizeSlab(SizeValueType begin, SizeValueType end, SlabRoots & roots)
   {
-    roots.clear();
+    roots.Roots.clear();
     for (SizeValueType line = begin; line < end; ++line)
     {
       for (RunIndex run = this->LineBegin(line); run < this->LineEnd(line); ++run)
       {
-        const RunIndex root = m_Parent[m_Parent[run]];
-        m_Parent[run] = root;
-        if (root == run)
+        if (this->AddToRoot(run, this->End(run, line) - this->Start(run)))
         {
-          roots.push_back(run);
-          m_Size[run] = 0;
+          roots.Roots.push_back(run);
         }
-        m_Size[root] += this->End(run, line) - this->Start(run);
+      }
+    }
+    this->TakeSizes(roots);
+  }
+
+  /** Adds \a size voxels to the marked size of \a node's root and returns whether \a node is a
+   * root: then its entry becomes its marked size; otherwise its parent is the root or points
+   * at it, and \a node is pointed at the root. */
+  bool
+  AddToRoot(RunIndex node, SizeValueType size)
+  {
+    const RunIndex parent = m_Parent[node];
+    if (parent == node)
+    {
+      m_Parent[node] = Marked | size;
+      return true;
+    }
+    const RunIndex root = (m_Parent[parent] & Marked) != 0 ? parent : m_Parent[parent];
+    m_Parent[node] = root;
+    m_Parent[root] += size;
+    return false;
+  }
+
+  /** Moves the marked sizes of those of \a roots that are still roots into the list, each its
+   * own parent again. */
+  void
+  TakeSizes(SlabRoots & roots)
+  {
+    roots.Sizes.resize(roots.Roots.size());
+    for (std::size_t i = 0; i < roots.Roots.size(); ++i)
+    {
+      const RunIndex root = roots.Roots[i];
+      if ((m_Parent[root] & Marked) != 0)
+      {
+        roots.Sizes[i] = m_Parent[root] & ~Marked;
+        m_Parent[root] = root;
       }
     }
   }
@@ -213,29 +260,25 @@ private:
       this->JoinWithEarlierLines(
         neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier < begin; });
     }
-    for (const SlabRoots & roots : m_SlabRoots)
+    for (SlabRoots & roots : m_SlabRoots)
     {
-      for (const RunIndex slabRoot : roots.Roots)
+      for (std::size_t i = 0; i < roots.Roots.size(); ++i)
       {
-        const RunIndex root = m_Parent[m_Parent[slabRoot]];
-        if (root != slabRoot)
-        {
-          m_Parent[slabRoot] = root;
-          m_Size[root] += m_Size[slabRoot];
-        }
+        this->AddToRoot(roots.Roots[i], roots.Sizes[i]);
       }
+    }
+    for (SlabRoots & roots : m_SlabRoots)
+    {
+      this->TakeSizes(roots);
     }
   }
 
-  /** A slab's roots, on cache lines of their own: the work units add to theirs at once. */
-  struct alignas(64) SlabRoots
-  {
-    std::vector<RunIndex> Roots;
-  };
+  /** The top bit of a root's parent entry: it marks the entry as the root's size while the
+   * sizes are added up, and marks a removed component after Find(). */
+  static constexpr RunIndex Marked = RunIndex{ 1 } << (8 * sizeof(RunIndex) - 1);
 
-  std::vector<RunIndex>      m_Parent;
-  std::vector<SizeValueType> m_Size;
-  std::vector<SlabRoots>     m_SlabRoots;
+  std::vector<RunIndex>  m_Parent;
+  std::vector<SlabRoots> m_SlabRoots;
 };
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -265,7 +265,7 @@ private:
     std::map<LabelType, std::vector<SizeValueType>> Sizes;
   };
 
-  /** Which components are removed (m_Removed, at their roots), with the statistics. */
+  /** Which components are removed (marked in m_Components), with the statistics. */
   void
   DecideRemovals(SmallIsoComponentDetail::WorkTeam & team);
   /** Adds \a counts to the statistics. */
@@ -294,7 +294,6 @@ private:
   Components             m_Components;
   Repair                 m_Repair;
   std::vector<LabelType> m_Part;
-  std::vector<uint8_t>   m_Removed;
   LabelStatisticsMapType m_LabelStatistics;
   SizeValueType          m_NumberOfModifiedVoxels{ 0 };
   SizeValueType          m_NumberOfUnrepairableVoxels{ 0 };

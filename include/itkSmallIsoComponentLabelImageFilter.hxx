@@ -330,7 +330,6 @@ SmallIsoComponentLabelImageFilter<TImage>::DecideRemovals(SmallIsoComponentDetai
       smallestKept[entry.first] = *nth;
     }
   }
-  m_Removed.assign(m_Components.GetNumberOfRuns(), 0);
   team.ForEach(slabs.size(), [&](SizeValueType slab) { this->MarkRemovals(slab, smallestKept, slabs[slab]); });
   for (const SlabCounts & counts : slabs)
   {
@@ -360,10 +359,9 @@ template <typename TImage>
 void
 SmallIsoComponentLabelImageFilter<TImage>::CountComponents(SizeValueType slab, SlabCounts & counts) const
 {
-  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root) {
-    const LabelType     label = m_Components.Label(root);
-    const SizeValueType size = m_Components.Size(root);
-    LabelStatistics &   statistics = counts.Labels[label];
+  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root, SizeValueType size) {
+    const LabelType   label = m_Components.Label(root);
+    LabelStatistics & statistics = counts.Labels[label];
     ++statistics.Components;
     ++statistics.Histogram[size];
     if (m_KeepLargestComponents > 0)
@@ -379,7 +377,7 @@ SmallIsoComponentLabelImageFilter<TImage>::MarkRemovals(SizeValueType           
                                                         const std::map<LabelType, SizeValueType> & smallestKept,
                                                         SlabCounts &                               counts)
 {
-  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root) {
+  m_Components.ForEachComponentOfSlab(slab, [&](RunIndex root, SizeValueType size) {
     const LabelType label = m_Components.Label(root);
     if (!this->IsSelected(label))
     {
@@ -388,10 +386,9 @@ SmallIsoComponentLabelImageFilter<TImage>::MarkRemovals(SizeValueType           
     const auto          ownK = m_MaximumComponentSizes.find(label);
     const SizeValueType k = ownK != m_MaximumComponentSizes.end() ? ownK->second : m_EffectiveMaximumComponentSize;
     const auto          kept = smallestKept.find(label);
-    const SizeValueType size = m_Components.Size(root);
     if (size <= k || (kept != smallestKept.end() && size < kept->second))
     {
-      m_Removed[root] = 1;
+      m_Components.MarkRemoved(root);
       ++counts.Labels[label].RemovedComponents;
       counts.Labels[label].RemovedVoxels += size;
     }
@@ -449,7 +446,7 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   this->DecideRemovals(team);
   // The output starts as the input; the repair marks the mask and finds the removed voxels' labels.
   uint8_t * const mask = this->CopyInputAndClearMask(labels, region, outputBuffer != labels && !copyWithRuns, team);
-  m_Repair.Compute(labels, m_Components, m_Removed, region, this->GetOutput()->GetBufferedRegion(), mask, team);
+  m_Repair.Compute(labels, m_Components, region, this->GetOutput()->GetBufferedRegion(), mask, team);
   for (const auto & gained : m_Repair.GetGainedVoxels())
   {
     m_LabelStatistics[gained.first].GainedVoxels += gained.second;

@@ -55,13 +55,12 @@ public:
    * removed voxels are not written, so they are not repaired and the counts are those of the
    * output's voxels. */
   void
-  Compute(const TLabel *               input,
-          const Components &           components,
-          const std::vector<uint8_t> & removed,
-          const RegionType &           region,
-          const RegionType &           outputRegion,
-          uint8_t *                    mask,
-          WorkTeam &                   team)
+  Compute(const TLabel *     input,
+          const Components & components,
+          const RegionType & region,
+          const RegionType & outputRegion,
+          uint8_t *          mask,
+          WorkTeam &         team)
   {
     m_Slabs.resize(SlabsFor(components.GetNumberOfLines(), team));
     for (Slab & slab : m_Slabs)
@@ -70,9 +69,9 @@ public:
       slab.Gained.clear();
       slab.Unrepairable = 0;
     }
-    const Walks walks{ input, components, removed, region.GetSize() };
+    const Walks walks{ input, components, region.GetSize() };
     ForEachRemovedRunInOutput(
-      components, removed, region, outputRegion, team, [&](SizeValueType slabIndex, const RunInOutput & part) {
+      components, region, outputRegion, team, [&](SizeValueType slabIndex, const RunInOutput & part) {
         Slab & slab = m_Slabs[slabIndex];
         if (mask != nullptr)
         {
@@ -128,17 +127,16 @@ private:
   };
 
   /** Calls function(slab, part) for the part in \a outputRegion of each run of \a components,
-   * runs of \a region, whose component is flagged in \a removed (at its root), in slabs of lines
+   * runs of \a region, whose component is marked removed, in slabs of lines
    * shared among the members of \a team. Lines are placed in the output only at their
    * first removed run: removed runs are few, so most lines cost no index arithmetic. */
   template <typename TFunction>
   static void
-  ForEachRemovedRunInOutput(const Components &           components,
-                            const std::vector<uint8_t> & removed,
-                            const RegionType &           region,
-                            const RegionType &           outputRegion,
-                            WorkTeam &                   team,
-                            const TFunction &            function)
+  ForEachRemovedRunInOutput(const Components & components,
+                            const RegionType & region,
+                            const RegionType & outputRegion,
+                            WorkTeam &         team,
+                            const TFunction &  function)
   {
     const SizeValueType first = static_cast<SizeValueType>(outputRegion.GetIndex(0) - region.GetIndex(0));
     const SizeValueType last = first + outputRegion.GetSize(0);
@@ -151,7 +149,7 @@ private:
           bool        placed = false;
           for (RunIndex run = components.LineBegin(line); run < components.LineEnd(line); ++run)
           {
-            if (!removed[components.Component(run)])
+            if (!components.IsRemoved(run))
             {
               continue;
             }
@@ -190,10 +188,9 @@ private:
   /** The walks from the removed voxels: what they read. */
   struct Walks
   {
-    const TLabel *               Input;
-    const Components &           Runs;
-    const std::vector<uint8_t> & Removed;
-    Size<VDimension>             Extent;
+    const TLabel *     Input;
+    const Components & Runs;
+    Size<VDimension>   Extent;
 
     void
     CollectVotes(const RunInOutput & part, const RegionType & region, SizeValueType x, std::vector<Vote> & votes) const;

@@ -35,7 +35,7 @@ LabelRepair<TLabel, VDimension>::Walks::CollectVotes(const RunInOutput & part,
   // Along a line the walks leave the run at its ends; along the other axes they pass voxels of
   // the component's label, which are all in the component, up to the first other label.
   const auto vote = [this, &votes](RunIndex at, SizeValueType steps) {
-    votes.push_back({ Runs.Label(at), steps, !Removed[Runs.Component(at)] });
+    votes.push_back({ Runs.Label(at), steps, !Runs.IsRemoved(at) });
   };
   votes.clear();
   const SizeValueType start = Runs.Start(part.Run);
