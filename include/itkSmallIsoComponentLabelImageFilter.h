@@ -19,6 +19,7 @@
 #define itkSmallIsoComponentLabelImageFilter_h
 
 #include "itkInPlaceImageFilter.h"
+#include "itkSmallIsoComponentLabelEnums.h"
 #include "itkSmallIsoComponentLabelRepair.h"
 #include "itkSmallIsoComponentRegionLines.h"
 #include <map>
@@ -27,35 +28,6 @@
 
 namespace itk
 {
-/** \class SmallIsoComponentLabelEnums
- * \brief Enums used by SmallIsoComponentLabelImageFilter.
- * \ingroup SmallIsoComponent
- */
-class SmallIsoComponentLabelEnums
-{
-public:
-  /** \ingroup SmallIsoComponent
-   * The labels whose small components are removed. All: every label, the background too
-   * (islands removed and holes filled). Islands: every label but the background. Holes: the
-   * background only. Listed: the labels of SetSelectedLabels(). */
-  enum class Selection : uint8_t
-  {
-    All = 0,
-    Islands = 1,
-    Holes = 2,
-    Listed = 3
-  };
-};
-
-/** Prints the enumerator's qualified name, e.g. "itk::SmallIsoComponentLabelEnums::Selection::All". */
-inline std::ostream &
-operator<<(std::ostream & out, const SmallIsoComponentLabelEnums::Selection value)
-{
-  static const char * const names[] = { "All", "Islands", "Holes", "Listed" };
-  const auto                index = static_cast<unsigned int>(value);
-  return out << "itk::SmallIsoComponentLabelEnums::Selection::" << (index < 4 ? names[index] : "INVALID");
-}
-
 /** \class SmallIsoComponentLabelImageFilter
  * \brief Removes the small islands and fills the small holes of a label map, each removed
  * voxel taking the label voted by the labels around its component.
