@@ -20,8 +20,11 @@
 #include "sicToolError.h"
 
 #include "itkMacro.h"
+#include "itkObjectFactory.h"
+#include "itkOutputWindow.h"
 
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <new>
 #include <system_error>
@@ -30,6 +33,25 @@ namespace sic
 {
 namespace
 {
+/** ITK's messages, but none while an exception unwinds: in ITK 5.4, every ITK object destroyed
+ * then because its constructor failed (a thread that could not start) warns of its reference count,
+ * and a failed run says what failed in one line. */
+class OutputWindowOutsideUnwinding : public itk::OutputWindow
+{
+public:
+  using Pointer = itk::SmartPointer<OutputWindowOutsideUnwinding>;
+  itkNewMacro(OutputWindowOutsideUnwinding);
+
+  void
+  DisplayText(const char * text) override
+  {
+    if (std::uncaught_exceptions() == 0)
+    {
+      itk::OutputWindow::DisplayText(text);
+    }
+  }
+};
+
 int
 RunTool(const ToolDescription &                               tool,
         int                                                   argc,
@@ -97,6 +119,7 @@ ToolMain(const ToolDescription &                               tool,
          const std::function<int(const ParsedCommandLine &)> & run)
 {
   HandleTerminate(tool.Name);
+  itk::OutputWindow::SetInstance(OutputWindowOutsideUnwinding::New());
   const int status = RunTool(tool, argc, argv, run);
   if (status != ExitSuccess)
   {
