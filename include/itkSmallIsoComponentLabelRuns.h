@@ -20,11 +20,13 @@
 
 #include "itkMacro.h"
 #include "itkNumericTraits.h"
+#include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentLineSlabs.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 #if defined(__SSE2__)
 #  include <emmintrin.h>
@@ -75,9 +77,7 @@ public:
       ForEachLineInSlabs(team, lines, lineFunction);
     };
     forEachLine([this, labels, copy](SizeValueType line) {
-      RunIndex runs = 1;
-      this->ForEachRunStart(labels + line * m_Length, [&runs](SizeValueType) { ++runs; });
-      m_LineBegin[line + 1] = runs;
+      m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
       this->CopyLine(labels, line, copy);
     });
     for (SizeValueType line = 0; line < lines; ++line)
@@ -189,50 +189,72 @@ private:
     }
   }
 
+  /** The runs of \a row. An integer label differs from the one before it exactly where one of
+   * its bytes does, so the differing voxels of each block are counted at once; a float label
+   * (-0 equals 0) is compared as a value. */
+  RunIndex
+  CountRuns(const TLabel * row) const
+  {
+    RunIndex runs = 1;
+    if (std::is_floating_point<TLabel>::value)
+    {
+      this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
+      return runs;
+    }
+    this->ForEachBlock(row, [&runs](SizeValueType, uint64_t differ) { runs += CountBits(differ); });
+    return runs;
+  }
+
   /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
-   * it. Blocks of 64 bytes of the line are compared at once with the 64 bytes one voxel before (a
-   * line's last block overlapping the one before it); only a voxel with a differing byte is
-   * compared as a label (float maps hold whole numbers, and -0 equals 0 in value only). */
+   * it. */
   template <typename TFunction>
   void
   ForEachRunStart(const TLabel * row, TFunction && function) const
   {
-    constexpr SizeValueType block = 64 / sizeof(TLabel);
-    const auto              visit = [row, &function](SizeValueType first, uint64_t differ) {
-      while (differ != 0)
+    this->ForEachBlock(row, [row, &function](SizeValueType first, uint64_t differ) {
+      for (; differ != 0; differ &= differ - 1)
       {
-        const unsigned int voxel = static_cast<unsigned int>(__builtin_ctzll(differ)) / sizeof(TLabel);
-        const unsigned int end = (voxel + 1) * sizeof(TLabel);
-        differ = end < 64 ? differ & (~uint64_t{ 0 } << end) : 0;
-        if (!(row[first + voxel] == row[first + voxel - 1]))
+        const SizeValueType x = first + static_cast<SizeValueType>(__builtin_ctzll(differ)) / sizeof(TLabel);
+        if (!std::is_floating_point<TLabel>::value || !(row[x] == row[x - 1]))
         {
-          function(first + voxel);
+          function(x);
         }
       }
-    };
-    SizeValueType x = 1;
+    });
+  }
+
+  /** Calls function(first, differ) for blocks of 64 bytes of \a row from voxel 1 on, a line's
+   * last block overlapping the one before it: bit i * sizeof(TLabel) of differ is set when voxel
+   * first + i differs in some byte from the voxel before it and lies past the blocks before. */
+  template <typename TFunction>
+  void
+  ForEachBlock(const TLabel * row, TFunction && function) const
+  {
+    constexpr SizeValueType block = 64 / sizeof(TLabel);
+    SizeValueType           x = 1;
     for (; x + block <= m_Length; x += block)
     {
-      visit(x, DifferingBytes(row + x));
+      function(x, DifferingVoxels(row + x));
     }
     if (x < m_Length && m_Length > block)
     {
       const SizeValueType first = m_Length - block;
-      visit(first, DifferingBytes(row + first) & (~uint64_t{ 0 } << ((x - first) * sizeof(TLabel))));
+      function(first, DifferingVoxels(row + first) & (~uint64_t{ 0 } << ((x - first) * sizeof(TLabel))));
       return;
     }
     for (; x < m_Length; ++x)
     {
-      if (!(row[x] == row[x - 1]))
+      if (std::memcmp(row + x, row + x - 1, sizeof(TLabel)) != 0)
       {
-        function(x);
+        function(x, uint64_t{ 1 });
       }
     }
   }
 
-  /** A bit for each of the 64 bytes from \a voxels that differs from the byte a voxel before. */
+  /** A bit for each voxel of the 64 bytes from \a voxels that differs in some byte from the
+   * voxel before it: bit i * sizeof(TLabel) for voxel i. */
   static uint64_t
-  DifferingBytes(const TLabel * voxels)
+  DifferingVoxels(const TLabel * voxels)
   {
 #if defined(__SSE2__)
     const auto * here = reinterpret_cast<const char *>(voxels);
@@ -244,7 +266,12 @@ private:
       const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i *>(before + 16 * i));
       equal |= static_cast<uint64_t>(static_cast<uint16_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(a, b)))) << (16 * i);
     }
-    return ~equal;
+    // A voxel is equal when all its bytes are: fold each voxel's bits into its first byte's.
+    for (unsigned int width = 1; width < sizeof(TLabel); width *= 2)
+    {
+      equal &= equal >> width;
+    }
+    return ~equal & FirstByteBits();
 #else
     uint64_t differ = 0;
     for (unsigned int i = 0; i < 64 / sizeof(TLabel); ++i)
@@ -256,6 +283,18 @@ private:
     }
     return differ;
 #endif
+  }
+
+  /** The bits of the first byte of each voxel in 64 bytes. */
+  static constexpr uint64_t
+  FirstByteBits()
+  {
+    uint64_t bits = 0;
+    for (unsigned int i = 0; i < 64; i += sizeof(TLabel))
+    {
+      bits |= uint64_t{ 1 } << i;
+    }
+    return bits;
   }
 
   SizeValueType               m_Length{ 0 };
