@@ -36,6 +36,54 @@ namespace itk
 {
 namespace SmallIsoComponentDetail
 {
+/** The bits of the first byte of each voxel of \a TLabel in 64 bytes. */
+template <typename TLabel>
+constexpr uint64_t
+FirstByteBits()
+{
+  uint64_t bits = 0;
+  for (unsigned int i = 0; i < 64; i += sizeof(TLabel))
+  {
+    bits |= uint64_t{ 1 } << i;
+  }
+  return bits;
+}
+
+/** A bit for each voxel of the 64 bytes from \a voxels that differs in some byte from the
+ * voxel before it: bit i * sizeof(TLabel) for voxel i. */
+template <typename TLabel>
+uint64_t
+DifferingVoxels(const TLabel * voxels)
+{
+#if defined(__SSE2__)
+  const auto * here = reinterpret_cast<const char *>(voxels);
+  const auto * before = reinterpret_cast<const char *>(voxels - 1);
+  uint64_t     equal = 0;
+  for (unsigned int i = 0; i < 4; ++i)
+  {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i *>(here + 16 * i));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i *>(before + 16 * i));
+    equal |= static_cast<uint64_t>(static_cast<uint16_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(a, b)))) << (16 * i);
+  }
+  // A voxel is equal when all its bytes are: fold each voxel's bits into its first byte's.
+  for (unsigned int width = 1; width < sizeof(TLabel); width *= 2)
+  {
+    equal &= equal >> width;
+  }
+  return ~equal & FirstByteBits<TLabel>();
+#else
+  uint64_t differ = 0;
+  for (unsigned int i = 0; i < 64 / sizeof(TLabel); ++i)
+  {
+    if (std::memcmp(voxels + i, voxels + i - 1, sizeof(TLabel)) != 0)
+    {
+      differ |= uint64_t{ 1 } << (i * sizeof(TLabel));
+    }
+  }
+  return differ;
+#endif
+}
+
 /** \class LabelRuns
  * The runs of a label image: its lines along axis 0, each cut into runs of one label, stored
  * line after line, so that a line's runs are numbered from LineBegin(line) to LineEnd(line).
@@ -249,52 +297,6 @@ private:
         function(x, uint64_t{ 1 });
       }
     }
-  }
-
-  /** A bit for each voxel of the 64 bytes from \a voxels that differs in some byte from the
-   * voxel before it: bit i * sizeof(TLabel) for voxel i. */
-  static uint64_t
-  DifferingVoxels(const TLabel * voxels)
-  {
-#if defined(__SSE2__)
-    const auto * here = reinterpret_cast<const char *>(voxels);
-    const auto * before = reinterpret_cast<const char *>(voxels - 1);
-    uint64_t     equal = 0;
-    for (unsigned int i = 0; i < 4; ++i)
-    {
-      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i *>(here + 16 * i));
-      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i *>(before + 16 * i));
-      equal |= static_cast<uint64_t>(static_cast<uint16_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(a, b)))) << (16 * i);
-    }
-    // A voxel is equal when all its bytes are: fold each voxel's bits into its first byte's.
-    for (unsigned int width = 1; width < sizeof(TLabel); width *= 2)
-    {
-      equal &= equal >> width;
-    }
-    return ~equal & FirstByteBits();
-#else
-    uint64_t differ = 0;
-    for (unsigned int i = 0; i < 64 / sizeof(TLabel); ++i)
-    {
-      if (std::memcmp(voxels + i, voxels + i - 1, sizeof(TLabel)) != 0)
-      {
-        differ |= uint64_t{ 1 } << (i * sizeof(TLabel));
-      }
-    }
-    return differ;
-#endif
-  }
-
-  /** The bits of the first byte of each voxel in 64 bytes. */
-  static constexpr uint64_t
-  FirstByteBits()
-  {
-    uint64_t bits = 0;
-    for (unsigned int i = 0; i < 64; i += sizeof(TLabel))
-    {
-      bits |= uint64_t{ 1 } << i;
-    }
-    return bits;
   }
 
   SizeValueType               m_Length{ 0 };
