@@ -50,28 +50,7 @@ public:
        const std::vector<SizeValueType> & size,
        bool                               fullyConnected,
        WorkTeam &                         team,
-       TLabel *                           copy = nullptr)
-  {
-    this->Encode(labels, size, team, copy);
-    const SizeValueType lines = this->GetNumberOfLines();
-    const LineNeighbors neighbors(size, fullyConnected);
-    // One work unit links the whole image as one slab: no seams to join.
-    const SizeValueType slabs =
-      team.GetNumberOfWorkUnits() > 1 ? SlabsFor(lines, team) : std::min<SizeValueType>(lines, 1);
-    m_Parent.resize(this->GetNumberOfRuns());
-    m_SlabRoots.resize(slabs);
-    ForEachSlabOfLines(team, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
-      this->LinkSlab(neighbors, fullyConnected, begin, end);
-      this->SizeSlab(begin, end, m_SlabRoots[slab]);
-    });
-    if (slabs > 1)
-    {
-      this->JoinSeams(neighbors, fullyConnected, lines, slabs);
-      ForEachSlabOfLines(team, lines, slabs, [this](SizeValueType, SizeValueType begin, SizeValueType end) {
-        this->PointAtComponentRoots(begin, end);
-      });
-    }
-  }
+       TLabel *                           copy = nullptr);
 
   /** The slabs Find() linked the runs in; each component has its root in one of them. */
   SizeValueType
@@ -127,19 +106,7 @@ private:
 
   /** Joins the runs of \a line with the runs of the same label they touch on line \a earlier. */
   void
-  JoinLines(SizeValueType line, SizeValueType earlier, bool fullyConnected)
-  {
-    JoinTouchingRuns(
-      this->GetStarts(),
-      this->LineBegin(line),
-      this->LineEnd(line) - 1,
-      this->LineBegin(earlier),
-      this->LineEnd(earlier) - 1,
-      static_cast<typename LabelRuns<TLabel>::CoordinateType>(this->GetLineLength()),
-      fullyConnected,
-      [this](RunIndex a, RunIndex b) { return this->Label(a) == this->Label(b); },
-      [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); });
-  }
+  JoinLines(SizeValueType line, SizeValueType earlier, bool fullyConnected);
 
   /** Joins the runs of each line of [begin, end) with those of its earlier neighbours that
    * \a joinWith(earlier) accepts. */
@@ -165,113 +132,37 @@ private:
 
   /** Links the runs of the lines [begin, end) with each other, touching no other run. */
   void
-  LinkSlab(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType begin, SizeValueType end)
-  {
-    for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
-    {
-      m_Parent[run] = run;
-    }
-    this->JoinWithEarlierLines(
-      neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier >= begin; });
-  }
+  LinkSlab(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType begin, SizeValueType end);
 
   /** Points every run of the lines [begin, end) at its root in the slab and lists the slab's
    * roots with their sizes. A run's parent is an earlier run, so it points at its root already
    * when the run's turn comes; meanwhile a root's own entry holds its size, marked. */
   void
-  SizeSlab(SizeValueType begin, SizeValueType end, SlabRoots & roots)
-  {
-    roots.Roots.clear();
-    for (SizeValueType line = begin; line < end; ++line)
-    {
-      for (RunIndex run = this->LineBegin(line); run < this->LineEnd(line); ++run)
-      {
-        if (this->AddToRoot(run, this->End(run, line) - this->Start(run)))
-        {
-          roots.Roots.push_back(run);
-        }
-      }
-    }
-    this->TakeSizes(roots);
-  }
+  SizeSlab(SizeValueType begin, SizeValueType end, SlabRoots & roots);
 
   /** Adds \a size voxels to the marked size of \a node's root and returns whether \a node is a
    * root: then its entry becomes its marked size; otherwise its parent is the root or points
    * at it, and \a node is pointed at the root. */
   bool
-  AddToRoot(RunIndex node, SizeValueType size)
-  {
-    const RunIndex parent = m_Parent[node];
-    if (parent == node)
-    {
-      m_Parent[node] = Marked | size;
-      return true;
-    }
-    const RunIndex root = (m_Parent[parent] & Marked) != 0 ? parent : m_Parent[parent];
-    m_Parent[node] = root;
-    m_Parent[root] += size;
-    return false;
-  }
+  AddToRoot(RunIndex node, SizeValueType size);
 
   /** Moves the marked sizes of those of \a roots that are still roots into the list, each its
    * own parent again. */
   void
-  TakeSizes(SlabRoots & roots)
-  {
-    roots.Sizes.resize(roots.Roots.size());
-    for (std::size_t i = 0; i < roots.Roots.size(); ++i)
-    {
-      const RunIndex root = roots.Roots[i];
-      if ((m_Parent[root] & Marked) != 0)
-      {
-        roots.Sizes[i] = m_Parent[root] & ~Marked;
-        m_Parent[root] = root;
-      }
-    }
-  }
+  TakeSizes(SlabRoots & roots);
 
   /** Points every run of the lines [begin, end) at its component's root. Its parent is a slab's
    * root, which points there already; a run is written only when that changes it, so that no
    * slab's root, which the runs of other slabs read, is written. */
   void
-  PointAtComponentRoots(SizeValueType begin, SizeValueType end)
-  {
-    for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
-    {
-      const RunIndex root = m_Parent[m_Parent[run]];
-      if (root != m_Parent[run])
-      {
-        m_Parent[run] = root;
-      }
-    }
-  }
+  PointAtComponentRoots(SizeValueType begin, SizeValueType end);
 
   /** Joins the runs of each slab's first lines with those of the lines before the slab, then
    * points each slab's root at its component's root, adding the sizes up there. Every parent is
    * a slab's root, and an earlier run: in the order of the runs, a root's parent is already the
    * component's root when its turn comes. */
   void
-  JoinSeams(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType lines, SizeValueType slabs)
-  {
-    for (SizeValueType slab = 1; slab < slabs; ++slab)
-    {
-      const SizeValueType begin = SlabBeginLine(lines, slabs, slab);
-      const SizeValueType end = std::min(SlabBeginLine(lines, slabs, slab + 1), begin + neighbors.GetFarthestEarlier());
-      this->JoinWithEarlierLines(
-        neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier < begin; });
-    }
-    for (SlabRoots & roots : m_SlabRoots)
-    {
-      for (std::size_t i = 0; i < roots.Roots.size(); ++i)
-      {
-        this->AddToRoot(roots.Roots[i], roots.Sizes[i]);
-      }
-    }
-    for (SlabRoots & roots : m_SlabRoots)
-    {
-      this->TakeSizes(roots);
-    }
-  }
+  JoinSeams(const LineNeighbors & neighbors, bool fullyConnected, SizeValueType lines, SizeValueType slabs);
 
   /** The top bit of a root's parent entry: it marks the entry as the root's size while the
    * sizes are added up, and marks a removed component after Find(). */
@@ -280,6 +171,157 @@ private:
   std::vector<RunIndex>  m_Parent;
   std::vector<SlabRoots> m_SlabRoots;
 };
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::Find(const TLabel *                     labels,
+                              const std::vector<SizeValueType> & size,
+                              bool                               fullyConnected,
+                              WorkTeam &                         team,
+                              TLabel *                           copy)
+{
+  this->Encode(labels, size, team, copy);
+  const SizeValueType lines = this->GetNumberOfLines();
+  const LineNeighbors neighbors(size, fullyConnected);
+  // One work unit links the whole image as one slab: no seams to join.
+  const SizeValueType slabs =
+    team.GetNumberOfWorkUnits() > 1 ? SlabsFor(lines, team) : std::min<SizeValueType>(lines, 1);
+  m_Parent.resize(this->GetNumberOfRuns());
+  m_SlabRoots.resize(slabs);
+  ForEachSlabOfLines(team, lines, slabs, [&](SizeValueType slab, SizeValueType begin, SizeValueType end) {
+    this->LinkSlab(neighbors, fullyConnected, begin, end);
+    this->SizeSlab(begin, end, m_SlabRoots[slab]);
+  });
+  if (slabs > 1)
+  {
+    this->JoinSeams(neighbors, fullyConnected, lines, slabs);
+    ForEachSlabOfLines(team, lines, slabs, [this](SizeValueType, SizeValueType begin, SizeValueType end) {
+      this->PointAtComponentRoots(begin, end);
+    });
+  }
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::JoinLines(SizeValueType line, SizeValueType earlier, bool fullyConnected)
+{
+  JoinTouchingRuns(
+    this->GetStarts(),
+    this->LineBegin(line),
+    this->LineEnd(line) - 1,
+    this->LineBegin(earlier),
+    this->LineEnd(earlier) - 1,
+    static_cast<typename LabelRuns<TLabel>::CoordinateType>(this->GetLineLength()),
+    fullyConnected,
+    [this](RunIndex a, RunIndex b) { return this->Label(a) == this->Label(b); },
+    [this](RunIndex a, RunIndex b) { Join(m_Parent.data(), a, b); });
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::LinkSlab(const LineNeighbors & neighbors,
+                                  bool                  fullyConnected,
+                                  SizeValueType         begin,
+                                  SizeValueType         end)
+{
+  for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
+  {
+    m_Parent[run] = run;
+  }
+  this->JoinWithEarlierLines(
+    neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier >= begin; });
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::SizeSlab(SizeValueType begin, SizeValueType end, SlabRoots & roots)
+{
+  roots.Roots.clear();
+  for (SizeValueType line = begin; line < end; ++line)
+  {
+    for (RunIndex run = this->LineBegin(line); run < this->LineEnd(line); ++run)
+    {
+      if (this->AddToRoot(run, this->End(run, line) - this->Start(run)))
+      {
+        roots.Roots.push_back(run);
+      }
+    }
+  }
+  this->TakeSizes(roots);
+}
+
+template <typename TLabel>
+inline bool
+LabelComponents<TLabel>::AddToRoot(RunIndex node, SizeValueType size)
+{
+  const RunIndex parent = m_Parent[node];
+  if (parent == node)
+  {
+    m_Parent[node] = Marked | size;
+    return true;
+  }
+  const RunIndex root = (m_Parent[parent] & Marked) != 0 ? parent : m_Parent[parent];
+  m_Parent[node] = root;
+  m_Parent[root] += size;
+  return false;
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::TakeSizes(SlabRoots & roots)
+{
+  roots.Sizes.resize(roots.Roots.size());
+  for (std::size_t i = 0; i < roots.Roots.size(); ++i)
+  {
+    const RunIndex root = roots.Roots[i];
+    if ((m_Parent[root] & Marked) != 0)
+    {
+      roots.Sizes[i] = m_Parent[root] & ~Marked;
+      m_Parent[root] = root;
+    }
+  }
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::PointAtComponentRoots(SizeValueType begin, SizeValueType end)
+{
+  for (RunIndex run = this->LineBegin(begin); run < this->LineBegin(end); ++run)
+  {
+    const RunIndex root = m_Parent[m_Parent[run]];
+    if (root != m_Parent[run])
+    {
+      m_Parent[run] = root;
+    }
+  }
+}
+
+template <typename TLabel>
+inline void
+LabelComponents<TLabel>::JoinSeams(const LineNeighbors & neighbors,
+                                   bool                  fullyConnected,
+                                   SizeValueType         lines,
+                                   SizeValueType         slabs)
+{
+  for (SizeValueType slab = 1; slab < slabs; ++slab)
+  {
+    const SizeValueType begin = SlabBeginLine(lines, slabs, slab);
+    const SizeValueType end = std::min(SlabBeginLine(lines, slabs, slab + 1), begin + neighbors.GetFarthestEarlier());
+    this->JoinWithEarlierLines(
+      neighbors, fullyConnected, begin, end, [begin](SizeValueType earlier) { return earlier < begin; });
+  }
+  for (SlabRoots & roots : m_SlabRoots)
+  {
+    for (std::size_t i = 0; i < roots.Roots.size(); ++i)
+    {
+      this->AddToRoot(roots.Roots[i], roots.Sizes[i]);
+    }
+  }
+  for (SlabRoots & roots : m_SlabRoots)
+  {
+    this->TakeSizes(roots);
+  }
+}
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 

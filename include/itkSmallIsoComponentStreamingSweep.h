@@ -91,12 +91,7 @@ public:
   void
   Finish();
 
-  /** Planes taken so far, and given out so far. */
-  uint64_t
-  GetNumberOfPlanesIn() const
-  {
-    return m_PlanesIn;
-  }
+  /** Planes given out so far. */
   uint64_t
   GetNumberOfPlanesOut() const
   {
