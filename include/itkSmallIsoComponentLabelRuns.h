@@ -101,50 +101,7 @@ public:
    * in slabs of lines, then write them where the counts put them, with no copy of the runs.
    * With \a copy, each line is also copied there, in the first pass, while it is in cache. */
   void
-  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr)
-  {
-    if (size[0] > NumericTraits<CoordinateType>::max())
-    {
-      itkGenericExceptionMacro("SmallIsoComponent: lines along axis 0 must have at most "
-                               << NumericTraits<CoordinateType>::max() << " voxels, not " << size[0]);
-    }
-    m_Length = size[0];
-    SizeValueType lines = 1;
-    for (std::size_t a = 1; a < size.size(); ++a)
-    {
-      lines *= size[a];
-    }
-    m_LineBegin.resize(lines + 1);
-    m_LineBegin[0] = 0;
-    if (team.GetNumberOfWorkUnits() == 1)
-    {
-      this->AppendRuns(labels, lines, copy);
-      return;
-    }
-    const auto forEachLine = [&team, lines](const auto & lineFunction) {
-      ForEachLineInSlabs(team, lines, lineFunction);
-    };
-    forEachLine([this, labels, copy](SizeValueType line) {
-      m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
-      this->CopyLine(labels, line, copy);
-    });
-    for (SizeValueType line = 0; line < lines; ++line)
-    {
-      m_LineBegin[line + 1] += m_LineBegin[line];
-    }
-    m_Start.resize(m_LineBegin[lines]);
-    m_Label.resize(m_LineBegin[lines]);
-    forEachLine([this, labels](SizeValueType line) {
-      const TLabel * const row = labels + line * m_Length;
-      RunIndex             run = m_LineBegin[line];
-      m_Start[run] = 0;
-      m_Label[run] = row[0];
-      this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
-        m_Start[++run] = static_cast<CoordinateType>(x);
-        m_Label[run] = row[x];
-      });
-    });
-  }
+  Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr);
 
   /** The voxels of a line. */
   SizeValueType
@@ -217,41 +174,13 @@ private:
   /** Appends the runs of the image's \a lines lines to the empty arrays, line after line, and
    * copies each line to \a copy, when there is one. */
   void
-  AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy)
-  {
-    m_Start.clear();
-    m_Label.clear();
-    m_Start.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
-    m_Label.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
-    for (SizeValueType line = 0; line < lines; ++line)
-    {
-      const TLabel * const row = labels + line * m_Length;
-      m_Start.push_back(0);
-      m_Label.push_back(row[0]);
-      this->ForEachRunStart(row, [this, row](SizeValueType x) {
-        m_Start.push_back(static_cast<CoordinateType>(x));
-        m_Label.push_back(row[x]);
-      });
-      m_LineBegin[line + 1] = m_Start.size();
-      this->CopyLine(labels, line, copy);
-    }
-  }
+  AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy);
 
   /** The runs of \a row. An integer label differs from the one before it exactly where one of
    * its bytes does, so the differing voxels of each block are counted at once; a float label
    * (-0 equals 0) is compared as a value. */
   RunIndex
-  CountRuns(const TLabel * row) const
-  {
-    RunIndex runs = 1;
-    if (std::is_floating_point<TLabel>::value)
-    {
-      this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
-      return runs;
-    }
-    this->ForEachBlock(row, [&runs](SizeValueType, uint64_t differ) { runs += CountBits(differ); });
-    return runs;
-  }
+  CountRuns(const TLabel * row) const;
 
   /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
    * it. */
@@ -304,6 +233,90 @@ private:
   std::vector<CoordinateType> m_Start;
   std::vector<TLabel>         m_Label;
 };
+
+template <typename TLabel>
+inline void
+LabelRuns<TLabel>::Encode(const TLabel *                     labels,
+                          const std::vector<SizeValueType> & size,
+                          WorkTeam &                         team,
+                          TLabel *                           copy)
+{
+  if (size[0] > NumericTraits<CoordinateType>::max())
+  {
+    itkGenericExceptionMacro("SmallIsoComponent: lines along axis 0 must have at most "
+                             << NumericTraits<CoordinateType>::max() << " voxels, not " << size[0]);
+  }
+  m_Length = size[0];
+  SizeValueType lines = 1;
+  for (std::size_t a = 1; a < size.size(); ++a)
+  {
+    lines *= size[a];
+  }
+  m_LineBegin.resize(lines + 1);
+  m_LineBegin[0] = 0;
+  if (team.GetNumberOfWorkUnits() == 1)
+  {
+    this->AppendRuns(labels, lines, copy);
+    return;
+  }
+  const auto forEachLine = [&team, lines](const auto & lineFunction) { ForEachLineInSlabs(team, lines, lineFunction); };
+  forEachLine([this, labels, copy](SizeValueType line) {
+    m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
+    this->CopyLine(labels, line, copy);
+  });
+  for (SizeValueType line = 0; line < lines; ++line)
+  {
+    m_LineBegin[line + 1] += m_LineBegin[line];
+  }
+  m_Start.resize(m_LineBegin[lines]);
+  m_Label.resize(m_LineBegin[lines]);
+  forEachLine([this, labels](SizeValueType line) {
+    const TLabel * const row = labels + line * m_Length;
+    RunIndex             run = m_LineBegin[line];
+    m_Start[run] = 0;
+    m_Label[run] = row[0];
+    this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
+      m_Start[++run] = static_cast<CoordinateType>(x);
+      m_Label[run] = row[x];
+    });
+  });
+}
+
+template <typename TLabel>
+inline void
+LabelRuns<TLabel>::AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy)
+{
+  m_Start.clear();
+  m_Label.clear();
+  m_Start.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  m_Label.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  for (SizeValueType line = 0; line < lines; ++line)
+  {
+    const TLabel * const row = labels + line * m_Length;
+    m_Start.push_back(0);
+    m_Label.push_back(row[0]);
+    this->ForEachRunStart(row, [this, row](SizeValueType x) {
+      m_Start.push_back(static_cast<CoordinateType>(x));
+      m_Label.push_back(row[x]);
+    });
+    m_LineBegin[line + 1] = m_Start.size();
+    this->CopyLine(labels, line, copy);
+  }
+}
+
+template <typename TLabel>
+inline auto
+LabelRuns<TLabel>::CountRuns(const TLabel * row) const -> RunIndex
+{
+  RunIndex runs = 1;
+  if (std::is_floating_point<TLabel>::value)
+  {
+    this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
+    return runs;
+  }
+  this->ForEachBlock(row, [&runs](SizeValueType, uint64_t differ) { runs += CountBits(differ); });
+  return runs;
+}
 } // namespace SmallIsoComponentDetail
 } // end namespace itk
 
