@@ -41,6 +41,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -67,7 +68,23 @@ struct Row
   double       MedianMs;
   std::size_t  PeakExtraBytes;
   double       MedianFaults;
+  /** The growth of the peak resident size over a new filter's first update, less the output;
+   * NaN where it is not measured. */
+  double MeasuredExtraBytes{ std::numeric_limits<double>::quiet_NaN() };
 };
+
+/** The row's measured bytes per voxel to three decimals, or "-" where they are not measured. */
+std::string
+MeasuredPerVoxel(const Row & row)
+{
+  if (std::isnan(row.MeasuredExtraBytes))
+  {
+    return "-";
+  }
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(3) << row.MeasuredExtraBytes / static_cast<double>(row.Voxels);
+  return text.str();
+}
 
 /** The filter's phases (SmallIsoComponentEnums::Phase), as the benchmark's columns name them. */
 const std::vector<std::pair<const char *, itk::SmallIsoComponentEnums::Phase>> Phases{
@@ -336,19 +353,19 @@ public:
     std::map<unsigned int, typename ThresholdType::Pointer> threshold;
     std::map<unsigned int, typename ConnectedType::Pointer> connected;
     std::map<unsigned int, typename RelabelType::Pointer>   relabel;
+    const auto newSmallIso = [&](unsigned int threads, itk::SmallIsoComponentEnums::Side side) {
+      auto filter = SmallIsoType::New();
+      filter->SetInput(input);
+      filter->SetIsoValue(isoValue);
+      filter->SetMaximumComponentSize(MaximumSize);
+      filter->SetSide(side);
+      filter->SetNumberOfWorkUnits(threads);
+      return filter;
+    };
     for (const unsigned int threads : threadCounts)
     {
-      smallIso[threads] = SmallIsoType::New();
-      smallIso[threads]->SetInput(input);
-      smallIso[threads]->SetIsoValue(isoValue);
-      smallIso[threads]->SetMaximumComponentSize(MaximumSize);
-      smallIso[threads]->SetNumberOfWorkUnits(threads);
-      smallIsoAbove[threads] = SmallIsoType::New();
-      smallIsoAbove[threads]->SetInput(input);
-      smallIsoAbove[threads]->SetIsoValue(isoValue);
-      smallIsoAbove[threads]->SetMaximumComponentSize(MaximumSize);
-      smallIsoAbove[threads]->SetSide(itk::SmallIsoComponentEnums::Side::Above);
-      smallIsoAbove[threads]->SetNumberOfWorkUnits(threads);
+      smallIso[threads] = newSmallIso(threads, itk::SmallIsoComponentEnums::Side::Both);
+      smallIsoAbove[threads] = newSmallIso(threads, itk::SmallIsoComponentEnums::Side::Above);
 
       threshold[threads] = ThresholdType::New();
       threshold[threads]->SetInput(input);
@@ -406,6 +423,19 @@ public:
         [] {}, [&] { std::memcpy(copy->GetBufferPointer(), input->GetBufferPointer(), voxels * sizeof(T)); }));
       extra[{ "memcpy", 1 }] = 0;
     }
+    // The memory of a first update, measured with a new filter after the timed runs.
+    std::map<std::pair<std::string, unsigned int>, double> measured;
+    for (const unsigned int threads : threadCounts)
+    {
+      itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(threads);
+      for (const auto side : { itk::SmallIsoComponentEnums::Side::Both, itk::SmallIsoComponentEnums::Side::Above })
+      {
+        auto         filter = newSmallIso(threads, side);
+        const double growth = sic::PeakGrowthBytes([&] { filter->Update(); });
+        measured[{ side == itk::SmallIsoComponentEnums::Side::Both ? "smalliso" : "smalliso-above", threads }] =
+          growth < 0 ? std::numeric_limits<double>::quiet_NaN() : growth - static_cast<double>(voxels * sizeof(T));
+      }
+    }
     const unsigned int                   most = threadCounts.back();
     const typename ImageType<T>::Pointer smallIsoOutput = smallIso[most]->GetOutput();
     const std::size_t                    smallIsoRemovedAbove =
@@ -442,8 +472,15 @@ public:
         ms.push_back(sample.Ms);
         faults.push_back(sample.Faults);
       }
-      m_Rows.push_back(
-        { name, voxels, entry.first.first, entry.first.second, Median(ms), extra[entry.first], Median(faults) });
+      const auto found = measured.find(entry.first);
+      m_Rows.push_back({ name,
+                         voxels,
+                         entry.first.first,
+                         entry.first.second,
+                         Median(ms),
+                         extra[entry.first],
+                         Median(faults),
+                         found == measured.end() ? std::numeric_limits<double>::quiet_NaN() : found->second });
     }
     for (const auto & entry : phases)
     {
@@ -467,7 +504,8 @@ public:
     os << std::left << std::setw(22) << "dataset" << std::right << std::setw(11) << "voxels"
        << "  " << std::left << std::setw(17) << "peer" << std::right << std::setw(7) << "threads" << std::setw(11)
        << "median ms" << std::setw(8) << "ns/vox" << std::setw(10) << "Mvox/s" << std::setw(11) << "x memcpy"
-       << std::setw(12) << "x smalliso" << std::setw(12) << "extra B/vox" << std::setw(10) << "faults"
+       << std::setw(12) << "x smalliso" << std::setw(12) << "extra B/vox" << std::setw(10) << "RSS B/vox"
+       << std::setw(10) << "faults"
        << "\n";
     for (const Row & row : m_Rows)
     {
@@ -478,11 +516,14 @@ public:
          << std::setw(11) << row.MedianMs << std::setw(8) << row.MedianMs * 1e6 / row.Voxels << std::setprecision(0)
          << std::setw(10) << row.Voxels / row.MedianMs / 1000.0 << std::setprecision(2) << std::setw(11)
          << row.MedianMs / memcpyMs << std::setw(12) << row.MedianMs / smallIsoMs << std::setprecision(3)
-         << std::setw(12) << static_cast<double>(row.PeakExtraBytes) / row.Voxels << std::setprecision(0)
-         << std::setw(10) << row.MedianFaults << "\n";
+         << std::setw(12) << static_cast<double>(row.PeakExtraBytes) / row.Voxels << std::setw(10)
+         << MeasuredPerVoxel(row) << std::setprecision(0) << std::setw(10) << row.MedianFaults << "\n";
     }
     os << "x smalliso: ratio to smalliso at the same thread count (1 thread for smalliso rows and single-threaded "
-          "peers); smalliso-above: Side Above; faults: page faults of the process during the timed run\n";
+          "peers); smalliso-above: Side Above; extra B/vox: what the filter counts it holds beyond input and output "
+          "(the ITK chain's images, the voxel union-find's arrays); RSS B/vox: the growth of the peak resident size "
+          "over a new filter's first update, less the output, measured; faults: page faults of the process during the "
+          "timed run\n";
     os << "\nsmalliso's phases, median ms (ns/voxel of the whole update in the last column):\n"
        << std::left << std::setw(22) << "dataset" << std::setw(17) << "peer" << std::right << std::setw(7) << "threads";
     for (const auto & phase : Phases)
@@ -516,7 +557,9 @@ public:
       os << (i ? ",\n  " : "\n  ") << "{\"dataset\": \"" << row.Dataset << "\", \"voxels\": " << row.Voxels
          << ", \"peer\": \"" << row.Peer << "\", \"threads\": " << row.Threads
          << ", \"median_ms\": " << std::setprecision(6) << row.MedianMs
-         << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << ", \"median_page_faults\": " << row.MedianFaults << "}";
+         << ", \"peak_extra_bytes\": " << row.PeakExtraBytes << ", \"measured_extra_bytes\": "
+         << (std::isnan(row.MeasuredExtraBytes) ? std::string("null") : std::to_string(row.MeasuredExtraBytes))
+         << ", \"median_page_faults\": " << row.MedianFaults << "}";
     }
     os << "\n],\n \"phases\": [";
     for (std::size_t i = 0; i < m_PhaseRows.size(); ++i)

@@ -30,17 +30,12 @@
 #include "itkScalarConnectedComponentImageFilter.h"
 #include "sicBenchmarkTiming.h"
 
-#if defined(__GLIBC__)
-#  include <malloc.h>
-#endif
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -368,44 +363,16 @@ Read(const std::string & path)
   return reader->GetOutput();
 }
 
-/** The kB count of \a key ("VmRSS:", "VmHWM:") in /proc/self/status, in bytes; -1 where there is none. */
-double
-StatusBytes(const std::string & key)
-{
-  std::ifstream status("/proc/self/status");
-  std::string   line;
-  while (std::getline(status, line))
-  {
-    if (line.compare(0, key.size(), key) == 0)
-    {
-      return 1024.0 * std::strtod(line.c_str() + key.size(), nullptr);
-    }
-  }
-  return -1;
-}
-
 /** The growth of the peak resident size over the first update of a new filter on \a input, without the mask, less
- * the output, in bytes per voxel; -1 where the system does not say. Measured after the timed runs, so that the
- * filter's code is resident already: what it counts is the memory the update takes for its data. Freed memory is
- * given back to the system first, so that the update cannot reuse pages that an earlier peer made resident. */
+ * the output, in bytes per voxel (sic::PeakGrowthBytes()); -1 where the system does not say. */
 double
 PeakBytesPerVoxel(const LabelImageType * input, unsigned int threads)
 {
   auto filter = IslandsFilter(input, threads);
   filter->GenerateRemovedMaskOff();
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
-  std::ofstream("/proc/self/clear_refs") << "5";
-  const double before = StatusBytes("VmRSS:");
-  if (before < 0 || StatusBytes("VmHWM:") > before + 65536)
-  {
-    return -1; // The peak was not reset.
-  }
-  filter->Update();
-  const double peak = StatusBytes("VmHWM:");
+  const double growth = sic::PeakGrowthBytes([&] { filter->Update(); });
   const double voxels = static_cast<double>(input->GetBufferedRegion().GetNumberOfPixels());
-  return (peak - before - voxels * sizeof(LabelType)) / voxels;
+  return growth < 0 ? -1 : (growth - voxels * sizeof(LabelType)) / voxels;
 }
 
 /** Times the peers on one label map; returns false when the filter and a chain remove different voxels. */

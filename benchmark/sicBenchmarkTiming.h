@@ -18,12 +18,19 @@
 #ifndef sicBenchmarkTiming_h
 #define sicBenchmarkTiming_h
 
-// How the benchmarks time a run: wall time and the page faults taken meanwhile.
+// How the benchmarks time a run (wall time and the page faults taken meanwhile) and measure the
+// memory one takes.
 
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#  include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <string>
 #include <vector>
 
 namespace sic
@@ -78,6 +85,44 @@ TimeAfterWarmUp(P && prepare, F && work)
   work();
   prepare();
   return TimeMs(work);
+}
+/** The kB count of \a key ("VmRSS:", "VmHWM:") in /proc/self/status, in bytes; -1 where there is none. */
+inline double
+StatusBytes(const std::string & key)
+{
+  std::ifstream status("/proc/self/status");
+  std::string   line;
+  while (std::getline(status, line))
+  {
+    if (line.compare(0, key.size(), key) == 0)
+    {
+      return 1024.0 * std::strtod(line.c_str() + key.size(), nullptr);
+    }
+  }
+  return -1;
+}
+
+/** The growth of the peak resident size while \a work runs, in bytes, from the peak reset just
+ * before; -1 where the system does not say. Freed memory is given back to the system first, so
+ * that \a work cannot reuse pages that earlier work made resident; run it after a run of the same
+ * code, so that the code's own pages are resident already and only the memory it takes for its
+ * data counts. */
+template <typename F>
+double
+PeakGrowthBytes(F && work)
+{
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+  std::ofstream reset("/proc/self/clear_refs");
+  reset << "5" << std::flush;
+  const double before = StatusBytes("VmHWM:");
+  if (!reset || before < 0)
+  {
+    return -1;
+  }
+  work();
+  return StatusBytes("VmHWM:") - before;
 }
 } // namespace sic
 
