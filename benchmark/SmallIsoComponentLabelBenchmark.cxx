@@ -228,6 +228,14 @@ IslandsFilter(const TImage * input, unsigned int threads)
   return filter;
 }
 
+/** The columns every row of the table starts with. */
+std::ostream &
+StartRow(const std::string & name, itk::SizeValueType voxels, const std::string & peer, unsigned int threads)
+{
+  return std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
+                   << std::setw(22) << peer << std::right << std::setw(3) << threads << std::fixed;
+}
+
 /** One row of the table: \a faults as text ("-" where they are not counted). */
 void
 PrintRow(const std::string & name,
@@ -238,9 +246,8 @@ PrintRow(const std::string & name,
          const std::string & faults,
          double              ratio)
 {
-  std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
-            << std::setw(22) << peer << std::right << std::setw(3) << threads << std::fixed << std::setprecision(2)
-            << std::setw(10) << ms << std::setw(10) << faults << std::setprecision(3) << std::setw(9) << ratio << '\n';
+  StartRow(name, voxels, peer, threads) << std::setprecision(2) << std::setw(10) << ms << std::setw(10) << faults
+                                        << std::setprecision(3) << std::setw(9) << ratio << '\n';
 }
 
 using WideLabelImageType = itk::Image<uint32_t, 3>;
@@ -437,9 +444,8 @@ Measure(const std::string & name, const LabelImageType * input, unsigned int rep
   }
   for (unsigned int threads : { 1u, 2u })
   {
-    std::cout << std::left << std::setw(28) << name << std::right << std::setw(11) << voxels << "  " << std::left
-              << std::setw(22) << "smalliso-labels memory" << std::right << std::setw(3) << threads
-              << std::setprecision(2) << std::setw(10) << PeakBytesPerVoxel(input, threads) << "  bytes per voxel\n";
+    StartRow(name, voxels, "smalliso-labels memory", threads)
+      << std::setprecision(2) << std::setw(10) << PeakBytesPerVoxel(input, threads) << "  bytes per voxel\n";
   }
   if (!agree)
   {

@@ -86,6 +86,7 @@ TimeAfterWarmUp(P && prepare, F && work)
   prepare();
   return TimeMs(work);
 }
+
 /** The kB count of \a key ("VmRSS:", "VmHWM:") in /proc/self/status, in bytes; -1 where there is none. */
 inline double
 StatusBytes(const std::string & key)
