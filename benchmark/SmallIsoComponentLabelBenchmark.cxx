@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 
-// SmallIsoComponentLabelBenchmark [--repeat N] [--small] [DATA_DIR]
+// SmallIsoComponentLabelBenchmark [--repeat N] [--warm-up MS] [--small] [DATA_DIR]
 //
 // Times the label-map filter against the chains of ITK filters that users run today (one label
 // at a time, and ITK's components of equal values), on the label maps of DATA_DIR/labels and on
@@ -49,6 +49,14 @@ namespace
 using LabelType = uint16_t;
 using LabelImageType = itk::Image<LabelType, 3>;
 constexpr itk::SizeValueType MaximumSize = 20;
+
+/** How each peer is timed: the runs timed, and how long its untimed runs go on before each
+ * (sic::TimeAfterWarmUp()). */
+struct Timing
+{
+  unsigned int Repeat{ 5 };
+  double       WarmUpMs{ 300 };
+};
 
 /** The labels of \a image but the background (0). */
 std::vector<LabelType>
@@ -322,7 +330,7 @@ SparseIds(const WideLabelImageType * dense)
 /** Times the filter on \a dense and on its sparse ids at 1 and 2 threads; returns false when they remove different
  * voxels. */
 bool
-MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, unsigned int repeat)
+MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, const Timing & timing)
 {
   using FilterType = itk::SmallIsoComponentLabelImageFilter<WideLabelImageType>;
   const auto sparse = SparseIds(dense);
@@ -337,12 +345,12 @@ MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, uns
       filter->Update();
       filters.push_back(filter);
     }
-    for (unsigned int r = 0; r < repeat; ++r)
+    for (unsigned int r = 0; r < timing.Repeat; ++r)
     {
       for (std::size_t i = 0; i < filters.size(); ++i)
       {
         ms[i == 0 ? "smalliso-labels dense" : "smalliso-labels sparse"].push_back(
-          sic::TimeAfterWarmUp([&] { filters[i]->Modified(); }, [&] { filters[i]->Update(); }).Ms);
+          sic::TimeAfterWarmUp([&] { filters[i]->Modified(); }, [&] { filters[i]->Update(); }, timing.WarmUpMs).Ms);
       }
     }
     const uint8_t * const    first = filters[0]->GetRemovedMask()->GetBufferPointer();
@@ -384,7 +392,7 @@ PeakBytesPerVoxel(const LabelImageType * input, unsigned int threads)
 
 /** Times the peers on one label map; returns false when the filter and a chain remove different voxels. */
 bool
-Measure(const std::string & name, const LabelImageType * input, unsigned int repeat)
+Measure(const std::string & name, const LabelImageType * input, const Timing & timing)
 {
   const itk::SizeValueType voxels = input->GetBufferedRegion().GetNumberOfPixels();
   std::map<std::pair<std::string, unsigned int>, std::vector<sic::Sample>> samples;
@@ -399,14 +407,18 @@ Measure(const std::string & name, const LabelImageType * input, unsigned int rep
     samples[{ "smalliso-labels first", threads }].push_back(sic::TimeMs([&] { filter->Update(); }));
     samples[{ "itk-per-label first", threads }].push_back(sic::TimeMs([&] { chain.Run(); }));
     samples[{ "itk-scalar-cc first", threads }].push_back(sic::TimeMs([&] { scalar.Run(); }));
-    for (unsigned int r = 0; r < repeat; ++r)
+    for (unsigned int r = 0; r < timing.Repeat; ++r)
     {
       samples[{ "smalliso-labels", threads }].push_back(
-        sic::TimeAfterWarmUp([&] { filter->Modified(); }, [&] { filter->Update(); }));
-      samples[{ "itk-per-label", threads }].push_back(sic::TimeAfterWarmUp([] {}, [&] { chain.Run(); }));
-      samples[{ "itk-scalar-cc", threads }].push_back(sic::TimeAfterWarmUp([] {}, [&] { scalar.Run(); }));
-      samples[{ "memcpy", threads }].push_back(sic::TimeAfterWarmUp(
-        [] {}, [&] { std::memcpy(copy.data(), input->GetBufferPointer(), voxels * sizeof(LabelType)); }));
+        sic::TimeAfterWarmUp([&] { filter->Modified(); }, [&] { filter->Update(); }, timing.WarmUpMs));
+      samples[{ "itk-per-label", threads }].push_back(
+        sic::TimeAfterWarmUp([] {}, [&] { chain.Run(); }, timing.WarmUpMs));
+      samples[{ "itk-scalar-cc", threads }].push_back(
+        sic::TimeAfterWarmUp([] {}, [&] { scalar.Run(); }, timing.WarmUpMs));
+      samples[{ "memcpy", threads }].push_back(
+        sic::TimeAfterWarmUp([] {},
+                             [&] { std::memcpy(copy.data(), input->GetBufferPointer(), voxels * sizeof(LabelType)); },
+                             timing.WarmUpMs));
     }
     // The same voxels removed: the chains set them to the background, the filter repairs them.
     const uint8_t * const   mask = filter->GetRemovedMask()->GetBufferPointer();
@@ -458,15 +470,19 @@ Measure(const std::string & name, const LabelImageType * input, unsigned int rep
 int
 main(int argc, char * argv[])
 {
-  unsigned int repeat = 5;
-  bool         small = false;
-  std::string  dataDir = "../shared/data";
+  Timing      timing;
+  bool        small = false;
+  std::string dataDir = "../shared/data";
   for (int i = 1; i < argc; ++i)
   {
     const std::string argument = argv[i];
     if (argument == "--repeat" && i + 1 < argc && std::atoi(argv[i + 1]) > 0)
     {
-      repeat = static_cast<unsigned int>(std::atoi(argv[++i]));
+      timing.Repeat = static_cast<unsigned int>(std::atoi(argv[++i]));
+    }
+    else if (argument == "--warm-up" && i + 1 < argc && std::atof(argv[i + 1]) >= 0)
+    {
+      timing.WarmUpMs = std::atof(argv[++i]);
     }
     else if (argument == "--small")
     {
@@ -478,7 +494,7 @@ main(int argc, char * argv[])
     }
     else
     {
-      std::cerr << "Usage: SmallIsoComponentLabelBenchmark [--repeat N] [--small] [DATA_DIR]\n"
+      std::cerr << "Usage: SmallIsoComponentLabelBenchmark [--repeat N] [--warm-up MS] [--small] [DATA_DIR]\n"
                    "Times smalliso-labels (the islands of every label but 0 removed, K = 20, face connectivity)\n"
                    "against itk-per-label (ITK's threshold, connected components and relabel, one label at a\n"
                    "time, removed voxels set to 0), itk-scalar-cc (ITK's components of equal values and\n"
@@ -489,6 +505,8 @@ main(int argc, char * argv[])
                    "update (without the mask), less the output, in bytes per voxel (-1: not measurable here).\n"
                    "The cells map, 2,523 labels like a connectomics segmentation's, is timed with ids 1, 2, 3, ...\n"
                    "(dense) and with ids spread up to 98 million (sparse), ratio to dense, as uint32.\n"
+                   "Each timed run follows untimed runs of the same peer for MS milliseconds (default 300; at\n"
+                   "least one run; none with --small).\n"
                    "Exit status 1 if they remove different voxels.\n";
       return 2;
     }
@@ -499,8 +517,9 @@ main(int argc, char * argv[])
   bool agree = true;
   if (small)
   {
-    return Measure("synthetic-40-noise", SyntheticLabels(40, 6, 0.02, 1), repeat) &&
-               MeasureSparseIds("cells-40-64-ids-2%", CellLabels(40, 64, 0.02, 1), repeat)
+    timing.WarmUpMs = 0;
+    return Measure("synthetic-40-noise", SyntheticLabels(40, 6, 0.02, 1), timing) &&
+               MeasureSparseIds("cells-40-64-ids-2%", CellLabels(40, 64, 0.02, 1), timing)
              ? 0
              : 1;
   }
@@ -512,11 +531,11 @@ main(int argc, char * argv[])
     if (fileName.find(".nii") != std::string::npos &&
         (fileName.find("_seg") != std::string::npos || fileName.find("atlas") != std::string::npos))
     {
-      agree = Measure(fileName.substr(0, fileName.find('.')), Read(file.path().string()), repeat) && agree;
+      agree = Measure(fileName.substr(0, fileName.find('.')), Read(file.path().string()), timing) && agree;
     }
   }
-  agree = Measure("synthetic-256-6-labels-2%", SyntheticLabels(256, 6, 0.02, 1), repeat) && agree;
+  agree = Measure("synthetic-256-6-labels-2%", SyntheticLabels(256, 6, 0.02, 1), timing) && agree;
   // Connectomics-like ids: 2,523 cells (ratio to the same map with ids 1, 2, 3, ...).
-  agree = MeasureSparseIds("cells-256-2523-ids-2%", CellLabels(256, 2523, 0.02, 1), repeat) && agree;
+  agree = MeasureSparseIds("cells-256-2523-ids-2%", CellLabels(256, 2523, 0.02, 1), timing) && agree;
   return agree ? 0 : 1;
 }

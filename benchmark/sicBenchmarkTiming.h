@@ -72,17 +72,23 @@ TimeMs(F && work)
   return sample;
 }
 
-/** Runs \a work once untimed, then times a second run; \a prepare (untimed) comes before
- * each. Every peer is thus timed right after a run of itself at the same thread count, never
- * after a different peer: on a virtual machine a core left idle by a long single-threaded
- * peer often comes back late (the next peer's second thread then starts a millisecond or
- * more after the first), which would weigh on whichever peer happened to come next. */
+/** Runs \a work untimed, once or until \a warmUpMs have passed, then times one more run;
+ * \a prepare (untimed) comes before each. Every peer is thus timed right after a run of itself
+ * at the same thread count, never after a different peer: on a virtual machine a core left
+ * idle by a long single-threaded peer often comes back late (the next peer's second thread
+ * then starts a millisecond or more after the first), which would weigh on whichever peer
+ * happened to come next; after seconds of a peer's work, a fast filter needs some hundred
+ * milliseconds of its own runs before it runs at its usual speed again. */
 template <typename P, typename F>
 Sample
-TimeAfterWarmUp(P && prepare, F && work)
+TimeAfterWarmUp(P && prepare, F && work, double warmUpMs = 0)
 {
-  prepare();
-  work();
+  const auto start = std::chrono::steady_clock::now();
+  do
+  {
+    prepare();
+    work();
+  } while (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() < warmUpMs);
   prepare();
   return TimeMs(work);
 }
