@@ -465,6 +465,15 @@ Measure(const std::string & name, const LabelImageType * input, const Timing & t
   }
   return agree;
 }
+
+/** Whether \a text is a finite number of milliseconds >= 0, the value --warm-up takes. */
+bool
+IsMilliseconds(const char * text)
+{
+  char *       end = nullptr;
+  const double ms = std::strtod(text, &end);
+  return end != text && *end == '\0' && ms >= 0 && std::isfinite(ms);
+}
 } // namespace
 
 int
@@ -480,9 +489,9 @@ main(int argc, char * argv[])
     {
       timing.Repeat = static_cast<unsigned int>(std::atoi(argv[++i]));
     }
-    else if (argument == "--warm-up" && i + 1 < argc && std::atof(argv[i + 1]) >= 0)
+    else if (argument == "--warm-up" && i + 1 < argc && IsMilliseconds(argv[i + 1]))
     {
-      timing.WarmUpMs = std::atof(argv[++i]);
+      timing.WarmUpMs = std::strtod(argv[++i], nullptr);
     }
     else if (argument == "--small")
     {
