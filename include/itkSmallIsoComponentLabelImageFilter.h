@@ -211,7 +211,8 @@ private:
   using RunIndex = typename Components::RunIndex;
   using Repair = SmallIsoComponentDetail::LabelRepair<LabelType, ImageDimension>;
 
-  /** Throws unless every sample of \a labels, the voxels of \a region, is a whole number. */
+  /** Throws, naming the first sample that is not a whole number, unless the runs found in \a labels, the voxels of
+   * \a region, hold whole numbers only. */
   void
   VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const;
   /** The statistics of \a label, or of none. */

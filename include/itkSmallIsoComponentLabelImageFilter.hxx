@@ -260,20 +260,16 @@ template <typename TImage>
 void
 SmallIsoComponentLabelImageFilter<TImage>::VerifyWholeNumbers(const LabelType * labels, const RegionType & region) const
 {
-  if (!std::is_floating_point<LabelType>::value)
+  if (m_Components.HoldsWholeNumbersOnly())
   {
     return;
   }
   const SizeValueType     count = region.GetNumberOfPixels();
-  const LabelType * const bad = std::find_if(labels, labels + count, [](LabelType value) {
-    return !std::isfinite(static_cast<double>(value)) || std::trunc(value) != value;
-  });
-  if (bad != labels + count)
-  {
-    itkExceptionMacro("The label image's sample at "
-                      << SmallIsoComponentDetail::IndexOf(region, static_cast<SizeValueType>(bad - labels)) << " is "
-                      << static_cast<double>(*bad) << "; a label image holds whole numbers only.");
-  }
+  const LabelType * const bad = std::find_if(
+    labels, labels + count, [](LabelType value) { return !SmallIsoComponentDetail::AreWholeNumbers(&value, 1); });
+  itkExceptionMacro("The label image's sample at "
+                    << SmallIsoComponentDetail::IndexOf(region, static_cast<SizeValueType>(bad - labels)) << " is "
+                    << static_cast<double>(*bad) << "; a label image holds whole numbers only.");
 }
 
 template <typename TImage>
@@ -428,7 +424,6 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
     SmallIsoComponentDetail::CopyLines(labels, input->GetBufferedRegion(), m_Part.data(), region, region);
     labels = m_Part.data();
   }
-  this->VerifyWholeNumbers(labels, region);
   this->AllocateOutputs();
   m_EffectiveMaximumComponentSize = this->ComputeEffectiveMaximumComponentSize(input->GetSpacing());
   m_NumberOfModifiedVoxels = 0;
@@ -441,6 +436,7 @@ SmallIsoComponentLabelImageFilter<TImage>::GenerateData()
   LabelType * const outputBuffer = this->GetOutput()->GetBufferPointer();
   const bool        copyWithRuns = this->GetOutput()->GetBufferedRegion() == region && outputBuffer != labels;
   m_Components.Find(labels, extent, m_FullyConnected, team, copyWithRuns ? outputBuffer : nullptr);
+  this->VerifyWholeNumbers(labels, region);
   this->UpdateProgress(0.5f);
   this->StopIfAborted();
   this->DecideRemovals(team);

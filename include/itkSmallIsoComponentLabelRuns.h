@@ -24,8 +24,11 @@
 #include "itkSmallIsoComponentLineSlabs.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 #include <vector>
 #if defined(__SSE2__)
@@ -84,6 +87,33 @@ DifferingVoxels(const TLabel * voxels)
 #endif
 }
 
+/** Whether the \a count values from \a values on are all finite whole numbers (integers always are). Below
+ * 2^(digits - 1) in magnitude, adding that power rounds a value to a whole number, so subtracting it again gives the
+ * value back exactly when it was one; every finite value above it is whole. Without branches, so that the loop is
+ * vectorized. */
+template <typename TReal>
+bool
+AreWholeNumbers(const TReal * values, SizeValueType count)
+{
+  if constexpr (!std::is_floating_point<TReal>::value)
+  {
+    return true;
+  }
+  else
+  {
+    constexpr TReal wholeAbove = TReal{ 1 } / std::numeric_limits<TReal>::epsilon();
+    constexpr TReal largest = std::numeric_limits<TReal>::max();
+    unsigned int    fractionalOrNotFinite = 0;
+    for (SizeValueType i = 0; i < count; ++i)
+    {
+      const TReal magnitude = std::abs(values[i]);
+      const bool  whole = ((magnitude + wholeAbove) - wholeAbove == magnitude) | (magnitude >= wholeAbove);
+      fractionalOrNotFinite |= static_cast<unsigned int>(!whole | !(magnitude <= largest));
+    }
+    return fractionalOrNotFinite == 0;
+  }
+}
+
 /** \class LabelRuns
  * The runs of a label image: its lines along axis 0, each cut into runs of one label, stored
  * line after line, so that a line's runs are numbered from LineBegin(line) to LineEnd(line).
@@ -102,6 +132,14 @@ public:
    * With \a copy, each line is also copied there, in the first pass, while it is in cache. */
   void
   Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr);
+
+  /** Whether every sample Encode() read is a finite whole number, as a label map's must be: checked in a float map
+   * as each line is read, while it is in cache; always true in an integer map. */
+  bool
+  HoldsWholeNumbersOnly() const
+  {
+    return m_WholeNumbersOnly.load(std::memory_order_relaxed);
+  }
 
   /** The voxels of a line. */
   SizeValueType
@@ -161,13 +199,21 @@ public:
   }
 
 private:
-  /** Copies \a line of \a labels to \a copy, when there is one. */
+  /** Copies \a line of \a labels to \a copy, when there is one, and checks a float line for whole numbers. */
   void
-  CopyLine(const TLabel * labels, SizeValueType line, TLabel * copy) const
+  ReadLine(const TLabel * labels, SizeValueType line, TLabel * copy)
   {
+    const TLabel * const row = labels + line * m_Length;
+    if constexpr (std::is_floating_point<TLabel>::value)
+    {
+      if (!AreWholeNumbers(row, m_Length))
+      {
+        m_WholeNumbersOnly.store(false, std::memory_order_relaxed);
+      }
+    }
     if (copy != nullptr)
     {
-      std::copy_n(labels + line * m_Length, m_Length, copy + line * m_Length);
+      std::copy_n(row, m_Length, copy + line * m_Length);
     }
   }
 
@@ -232,6 +278,7 @@ private:
   std::vector<RunIndex>       m_LineBegin;
   std::vector<CoordinateType> m_Start;
   std::vector<TLabel>         m_Label;
+  std::atomic<bool>           m_WholeNumbersOnly{ true };
 };
 
 template <typename TLabel>
@@ -247,6 +294,7 @@ LabelRuns<TLabel>::Encode(const TLabel *                     labels,
                              << NumericTraits<CoordinateType>::max() << " voxels, not " << size[0]);
   }
   m_Length = size[0];
+  m_WholeNumbersOnly.store(true, std::memory_order_relaxed);
   SizeValueType lines = 1;
   for (std::size_t a = 1; a < size.size(); ++a)
   {
@@ -262,7 +310,7 @@ LabelRuns<TLabel>::Encode(const TLabel *                     labels,
   const auto forEachLine = [&team, lines](const auto & lineFunction) { ForEachLineInSlabs(team, lines, lineFunction); };
   forEachLine([this, labels, copy](SizeValueType line) {
     m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
-    this->CopyLine(labels, line, copy);
+    this->ReadLine(labels, line, copy);
   });
   for (SizeValueType line = 0; line < lines; ++line)
   {
@@ -300,7 +348,7 @@ LabelRuns<TLabel>::AppendRuns(const TLabel * labels, SizeValueType lines, TLabel
       m_Label.push_back(row[x]);
     });
     m_LineBegin[line + 1] = m_Start.size();
-    this->CopyLine(labels, line, copy);
+    this->ReadLine(labels, line, copy);
   }
 }
 

@@ -27,7 +27,10 @@
 #include "gtest/gtest.h"
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <map>
+#include <random>
 #include <string>
 
 namespace
@@ -445,6 +448,82 @@ TEST(SmallIsoComponentLabelImageFilter, RefusesSamplesThatAreNotWholeNumbers)
     catch (const ExceptionObject & error)
     {
       EXPECT_NE(std::string(error.GetDescription()).find("[3, 2]"), std::string::npos) << error.GetDescription();
+    }
+  }
+}
+
+/** The whole-number check agrees with std::trunc on the edges of each type and on random bit patterns. */
+TEST(SmallIsoComponentLabelImageFilter, ChecksWholeNumbersAsTruncDoes)
+{
+  const auto check = [](auto value) {
+    const bool expected = std::isfinite(value) && std::trunc(value) == value;
+    EXPECT_EQ(SmallIsoComponentDetail::AreWholeNumbers(&value, 1), expected) << std::hexfloat << value;
+  };
+  const auto checkType = [&check](auto zero, auto bitsZero) {
+    using Real = decltype(zero);
+    using Limits = std::numeric_limits<Real>;
+    const Real wholeAbove = Real{ 1 } / Limits::epsilon();
+    for (const Real edge : { Real{ 0 },
+                             -Real{ 0 },
+                             Real{ 0.5 },
+                             Real{ 1 },
+                             std::nextafter(Real{ 1 }, Real{ 0 }),
+                             wholeAbove - Real{ 0.5 },
+                             wholeAbove - Real{ 1 },
+                             wholeAbove,
+                             wholeAbove + Real{ 1 },
+                             std::nextafter(wholeAbove, Real{ 0 }),
+                             Real{ 2 } * wholeAbove + Real{ 2 },
+                             Limits::max(),
+                             Limits::lowest(),
+                             Limits::denorm_min(),
+                             Limits::min(),
+                             Limits::infinity(),
+                             -Limits::infinity(),
+                             Limits::quiet_NaN(),
+                             Real{ -2.5 },
+                             Real{ 98000000 } })
+    {
+      check(edge);
+      check(-edge);
+    }
+    std::mt19937_64 random(17);
+    for (int i = 0; i < 200000; ++i)
+    {
+      auto bits = static_cast<decltype(bitsZero)>(random());
+      Real value;
+      std::memcpy(&value, &bits, sizeof(value));
+      check(value);
+      // Values near the whole numbers too, which random bit patterns seldom give.
+      check(std::nearbyint(value / Real{ 1e30 }) + static_cast<Real>(i % 3) / Real{ 4 });
+    }
+  };
+  checkType(0.0f, uint32_t{ 0 });
+  checkType(0.0, uint64_t{ 0 });
+}
+
+/** The first sample that is not a whole number is named, whatever the number of work units. */
+TEST(SmallIsoComponentLabelImageFilter, NamesTheFirstSampleThatIsNotWhole)
+{
+  using ImageType = Image<float, 3>;
+  const std::array<SizeValueType, 3> size{ 64, 32, 16 };
+  std::vector<float>                 labels(64 * 32 * 16, 7.0f);
+  labels[(12 * 32 + 5) * 64 + 9] = 0.25f;
+  labels[(14 * 32 + 1) * 64 + 2] = std::numeric_limits<float>::quiet_NaN();
+  for (const unsigned int workUnits : { 1u, 2u, 7u })
+  {
+    auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
+    filter->SetInput(SmallIsoComponentTest::MakeImage<float, 3>(size, labels));
+    filter->SetNumberOfWorkUnits(workUnits);
+    try
+    {
+      filter->Update();
+      ADD_FAILURE() << "accepted a sample of 0.25 at " << workUnits << " work units";
+    }
+    catch (const ExceptionObject & error)
+    {
+      EXPECT_NE(std::string(error.GetDescription()).find("[9, 5, 12] is 0.25"), std::string::npos)
+        << error.GetDescription();
     }
   }
 }

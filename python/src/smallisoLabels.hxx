@@ -91,10 +91,8 @@ template <typename TLabel>
 RefuseSample(const py::array_t<TLabel> & labels, bool fortran)
 {
   const TLabel * const data = labels.data();
-  const auto           whole = [](TLabel value) {
-    return std::isfinite(static_cast<double>(value)) && std::trunc(value) == value;
-  };
-  py::ssize_t offset = 0;
+  const auto           whole = [](TLabel value) { return itk::SmallIsoComponentDetail::AreWholeNumbers(&value, 1); };
+  py::ssize_t          offset = 0;
   while (offset + 1 < labels.size() && whole(data[offset]))
   {
     ++offset;
