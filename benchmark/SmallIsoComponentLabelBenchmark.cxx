@@ -26,6 +26,7 @@
 #include "itkBinaryThresholdImageFilter.h"
 #include "itkConnectedComponentImageFilter.h"
 #include "itkImageFileReader.h"
+#include "itkImageIOFactory.h"
 #include "itkRelabelComponentImageFilter.h"
 #include "itkScalarConnectedComponentImageFilter.h"
 #include "sicBenchmarkTiming.h"
@@ -48,6 +49,7 @@ namespace
 {
 using LabelType = uint16_t;
 using LabelImageType = itk::Image<LabelType, 3>;
+using WideLabelImageType = itk::Image<uint32_t, 3>;
 constexpr itk::SizeValueType MaximumSize = 20;
 
 /** How each peer is timed: the runs timed, and how long its untimed runs go on before each
@@ -59,21 +61,24 @@ struct Timing
 };
 
 /** The labels of \a image but the background (0). */
-std::vector<LabelType>
-ForegroundLabels(const LabelImageType * image)
+template <typename TImage>
+std::vector<typename TImage::PixelType>
+ForegroundLabels(const TImage * image)
 {
-  const LabelType * const   buffer = image->GetBufferPointer();
-  const std::set<LabelType> labels(buffer, buffer + image->GetBufferedRegion().GetNumberOfPixels());
-  std::vector<LabelType>    foreground(labels.begin(), labels.end());
-  foreground.erase(std::remove(foreground.begin(), foreground.end(), LabelType{ 0 }), foreground.end());
+  using PixelType = typename TImage::PixelType;
+  const PixelType * const   buffer = image->GetBufferPointer();
+  const std::set<PixelType> labels(buffer, buffer + image->GetBufferedRegion().GetNumberOfPixels());
+  std::vector<PixelType>    foreground(labels.begin(), labels.end());
+  foreground.erase(std::remove(foreground.begin(), foreground.end(), PixelType{ 0 }), foreground.end());
   return foreground;
 }
 
 /** A new image of \a image's region and geometry, for a chain's output. */
-LabelImageType::Pointer
-NewImageLike(const LabelImageType * image)
+template <typename TImage>
+typename TImage::Pointer
+NewImageLike(const TImage * image)
 {
-  auto output = LabelImageType::New();
+  auto output = TImage::New();
   output->CopyInformation(image);
   output->SetRegions(image->GetBufferedRegion());
   output->Allocate();
@@ -84,10 +89,11 @@ NewImageLike(const LabelImageType * image)
  * time, as the tools users have do it: each label thresholded, its components numbered and
  * those of at most K voxels found by relabelling, their voxels set to the background. One
  * pipeline, re-executed for each label, so that its buffers are reused. */
+template <typename TImage>
 class PerLabelChain
 {
 public:
-  PerLabelChain(const LabelImageType * input, unsigned int threads)
+  PerLabelChain(const TImage * input, unsigned int threads)
     : m_Input(input)
     , m_Labels(ForegroundLabels(input))
   {
@@ -107,40 +113,41 @@ public:
   Run()
   {
     const itk::SizeValueType voxels = m_Input->GetBufferedRegion().GetNumberOfPixels();
-    std::memcpy(m_Output->GetBufferPointer(), m_Input->GetBufferPointer(), voxels * sizeof(LabelType));
-    for (const LabelType label : m_Labels)
+    std::memcpy(m_Output->GetBufferPointer(), m_Input->GetBufferPointer(), voxels * sizeof(PixelType));
+    for (const PixelType label : m_Labels)
     {
       m_Threshold->SetLowerThreshold(label);
       m_Threshold->SetUpperThreshold(label);
       m_Relabel->Update();
       const uint8_t * const  inside = m_Threshold->GetOutput()->GetBufferPointer();
       const uint32_t * const kept = m_Relabel->GetOutput()->GetBufferPointer();
-      LabelType * const      output = m_Output->GetBufferPointer();
+      PixelType * const      output = m_Output->GetBufferPointer();
       for (itk::SizeValueType v = 0; v < voxels; ++v)
       {
-        output[v] = inside[v] && !kept[v] ? LabelType{ 0 } : output[v];
+        output[v] = inside[v] && !kept[v] ? PixelType{ 0 } : output[v];
       }
     }
   }
 
-  const LabelImageType *
+  const TImage *
   GetOutput() const
   {
     return m_Output;
   }
 
 private:
+  using PixelType = typename TImage::PixelType;
   using MaskType = itk::Image<uint8_t, 3>;
   using ComponentImageType = itk::Image<uint32_t, 3>;
-  const LabelImageType *                                             m_Input;
-  std::vector<LabelType>                                             m_Labels;
-  itk::BinaryThresholdImageFilter<LabelImageType, MaskType>::Pointer m_Threshold =
-    itk::BinaryThresholdImageFilter<LabelImageType, MaskType>::New();
-  itk::ConnectedComponentImageFilter<MaskType, ComponentImageType>::Pointer m_Components =
+  const TImage *                                                      m_Input;
+  std::vector<PixelType>                                              m_Labels;
+  typename itk::BinaryThresholdImageFilter<TImage, MaskType>::Pointer m_Threshold =
+    itk::BinaryThresholdImageFilter<TImage, MaskType>::New();
+  typename itk::ConnectedComponentImageFilter<MaskType, ComponentImageType>::Pointer m_Components =
     itk::ConnectedComponentImageFilter<MaskType, ComponentImageType>::New();
-  itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::Pointer m_Relabel =
+  typename itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::Pointer m_Relabel =
     itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::New();
-  LabelImageType::Pointer m_Output;
+  typename TImage::Pointer m_Output;
 };
 
 /** The islands of every label but the background removed with ITK's components of equal values:
@@ -148,10 +155,11 @@ private:
  * one label), masked by the map itself so that the background is not labelled, then
  * relabelling, which drops the components of at most K voxels; their voxels are set to the
  * background. */
+template <typename TImage>
 class ScalarComponentsChain
 {
 public:
-  ScalarComponentsChain(const LabelImageType * input, unsigned int threads)
+  ScalarComponentsChain(const TImage * input, unsigned int threads)
     : m_Input(input)
   {
     m_Components->SetInput(input);
@@ -170,29 +178,30 @@ public:
     m_Components->Modified();
     m_Relabel->Update();
     const itk::SizeValueType voxels = m_Input->GetBufferedRegion().GetNumberOfPixels();
-    const LabelType * const  input = m_Input->GetBufferPointer();
+    const PixelType * const  input = m_Input->GetBufferPointer();
     const uint32_t * const   kept = m_Relabel->GetOutput()->GetBufferPointer();
-    LabelType * const        output = m_Output->GetBufferPointer();
+    PixelType * const        output = m_Output->GetBufferPointer();
     for (itk::SizeValueType v = 0; v < voxels; ++v)
     {
-      output[v] = kept[v] == 0 ? LabelType{ 0 } : input[v];
+      output[v] = kept[v] == 0 ? PixelType{ 0 } : input[v];
     }
   }
 
-  const LabelImageType *
+  const TImage *
   GetOutput() const
   {
     return m_Output;
   }
 
 private:
+  using PixelType = typename TImage::PixelType;
   using ComponentImageType = itk::Image<uint32_t, 3>;
-  const LabelImageType *                                                                m_Input;
-  itk::ScalarConnectedComponentImageFilter<LabelImageType, ComponentImageType>::Pointer m_Components =
-    itk::ScalarConnectedComponentImageFilter<LabelImageType, ComponentImageType>::New();
-  itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::Pointer m_Relabel =
+  const TImage *                                                                         m_Input;
+  typename itk::ScalarConnectedComponentImageFilter<TImage, ComponentImageType>::Pointer m_Components =
+    itk::ScalarConnectedComponentImageFilter<TImage, ComponentImageType>::New();
+  typename itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::Pointer m_Relabel =
     itk::RelabelComponentImageFilter<ComponentImageType, ComponentImageType>::New();
-  LabelImageType::Pointer m_Output;
+  typename TImage::Pointer m_Output;
 };
 
 /** A label map of \a labels bands along a wavy surface, with a fraction \a noise of its voxels
@@ -257,8 +266,6 @@ PrintRow(const std::string & name,
   StartRow(name, voxels, peer, threads) << std::setprecision(2) << std::setw(10) << ms << std::setw(10) << faults
                                         << std::setprecision(3) << std::setw(9) << ratio << '\n';
 }
-
-using WideLabelImageType = itk::Image<uint32_t, 3>;
 
 /** A map of \a cells cells like a connectomics segmentation's: each voxel takes the cell of the nearest of seeds
  * jittered about a grid (of about \a cells points), with a fraction \a noise of the voxels set to random cells. The
@@ -369,40 +376,40 @@ MeasureSparseIds(const std::string & name, const WideLabelImageType * dense, con
   return agree;
 }
 
-LabelImageType::Pointer
-Read(const std::string & path)
-{
-  auto reader = itk::ImageFileReader<LabelImageType>::New();
-  reader->SetFileName(path);
-  reader->Update();
-  return reader->GetOutput();
-}
-
 /** The growth of the peak resident size over the first update of a new filter on \a input, without the mask, less
  * the output, in bytes per voxel (sic::PeakGrowthBytes()); -1 where the system does not say. */
+template <typename TImage>
 double
-PeakBytesPerVoxel(const LabelImageType * input, unsigned int threads)
+PeakBytesPerVoxel(const TImage * input, unsigned int threads)
 {
   auto filter = IslandsFilter(input, threads);
   filter->GenerateRemovedMaskOff();
   const double growth = sic::PeakGrowthBytes([&] { filter->Update(); });
   const double voxels = static_cast<double>(input->GetBufferedRegion().GetNumberOfPixels());
-  return growth < 0 ? -1 : (growth - voxels * sizeof(LabelType)) / voxels;
+  return growth < 0 ? -1 : (growth - voxels * sizeof(typename TImage::PixelType)) / voxels;
 }
 
 /** Times the peers on one label map; returns false when the filter and a chain remove different voxels. */
+template <typename TImage>
 bool
-Measure(const std::string & name, const LabelImageType * input, const Timing & timing)
+Measure(const std::string & name, const TImage * input, const Timing & timing)
 {
+  using PixelType = typename TImage::PixelType;
   const itk::SizeValueType voxels = input->GetBufferedRegion().GetNumberOfPixels();
   std::map<std::pair<std::string, unsigned int>, std::vector<sic::Sample>> samples;
   bool                                                                     agree = true;
-  std::vector<LabelType>                                                   copy(voxels);
+  std::vector<PixelType>                                                   copy(voxels);
+  // A copy of the map as 32-bit labels too, the width many label tools work in.
+  std::vector<uint32_t> wide(voxels);
+  std::vector<uint32_t> wideCopy(voxels);
+  std::transform(input->GetBufferPointer(), input->GetBufferPointer() + voxels, wide.begin(), [](PixelType label) {
+    return static_cast<uint32_t>(label);
+  });
   for (unsigned int threads : { 1u, 2u })
   {
-    auto                  filter = IslandsFilter(input, threads);
-    PerLabelChain         chain(input, threads);
-    ScalarComponentsChain scalar(input, threads);
+    auto                          filter = IslandsFilter(input, threads);
+    PerLabelChain<TImage>         chain(input, threads);
+    ScalarComponentsChain<TImage> scalar(input, threads);
     // The first update of each, whose new buffers take page faults as a one-off run's do.
     samples[{ "smalliso-labels first", threads }].push_back(sic::TimeMs([&] { filter->Update(); }));
     samples[{ "itk-per-label first", threads }].push_back(sic::TimeMs([&] { chain.Run(); }));
@@ -417,14 +424,16 @@ Measure(const std::string & name, const LabelImageType * input, const Timing & t
         sic::TimeAfterWarmUp([] {}, [&] { scalar.Run(); }, timing.WarmUpMs));
       samples[{ "memcpy", threads }].push_back(
         sic::TimeAfterWarmUp([] {},
-                             [&] { std::memcpy(copy.data(), input->GetBufferPointer(), voxels * sizeof(LabelType)); },
+                             [&] { std::memcpy(copy.data(), input->GetBufferPointer(), voxels * sizeof(PixelType)); },
                              timing.WarmUpMs));
+      samples[{ "memcpy as uint32", threads }].push_back(sic::TimeAfterWarmUp(
+        [] {}, [&] { std::memcpy(wideCopy.data(), wide.data(), voxels * sizeof(uint32_t)); }, timing.WarmUpMs));
     }
     // The same voxels removed: the chains set them to the background, the filter repairs them.
     const uint8_t * const   mask = filter->GetRemovedMask()->GetBufferPointer();
-    const LabelType * const before = input->GetBufferPointer();
-    const LabelType * const after = chain.GetOutput()->GetBufferPointer();
-    const LabelType * const afterScalar = scalar.GetOutput()->GetBufferPointer();
+    const PixelType * const before = input->GetBufferPointer();
+    const PixelType * const after = chain.GetOutput()->GetBufferPointer();
+    const PixelType * const afterScalar = scalar.GetOutput()->GetBufferPointer();
     for (itk::SizeValueType v = 0; v < voxels; ++v)
     {
       agree = agree && (mask[v] != 0) == (before[v] != 0 && after[v] == 0) &&
@@ -464,6 +473,44 @@ Measure(const std::string & name, const LabelImageType * input, const Timing & t
     std::cerr << name << ": the filter and the ITK chains removed different voxels\n";
   }
   return agree;
+}
+
+/** Reads the label map at \a path in the pixel type its file stores and times the peers on it (Measure()); returns
+ * false when they disagree or the type is not one of those timed. */
+bool
+MeasureFile(const std::string & name, const std::string & path, const Timing & timing)
+{
+  const auto measure = [&](auto pixel) {
+    using ImageType = itk::Image<decltype(pixel), 3>;
+    auto reader = itk::ImageFileReader<ImageType>::New();
+    reader->SetFileName(path);
+    reader->Update();
+    return Measure(name, reader->GetOutput(), timing);
+  };
+  const itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  io->SetFileName(path);
+  io->ReadImageInformation();
+  using Component = itk::IOComponentEnum;
+  switch (io->GetComponentType())
+  {
+    case Component::UCHAR:
+      return measure(uint8_t{});
+    case Component::SHORT:
+      return measure(int16_t{});
+    case Component::USHORT:
+      return measure(uint16_t{});
+    case Component::INT:
+      return measure(int32_t{});
+    case Component::UINT:
+      return measure(uint32_t{});
+    case Component::FLOAT:
+      return measure(float{});
+    default:
+      std::cerr << path << ": pixel type " << io->GetComponentTypeAsString(io->GetComponentType())
+                << " not timed; expected uint8, int16, uint16, int32, uint32 or float32\n";
+      return false;
+  }
 }
 
 /** Whether \a text is a finite number of milliseconds >= 0, the value --warm-up takes. */
@@ -507,8 +554,9 @@ main(int argc, char * argv[])
                    "Times smalliso-labels (the islands of every label but 0 removed, K = 20, face connectivity)\n"
                    "against itk-per-label (ITK's threshold, connected components and relabel, one label at a\n"
                    "time, removed voxels set to 0), itk-scalar-cc (ITK's components of equal values and\n"
-                   "relabel, removed voxels set to 0) and memcpy on the label maps of DATA_DIR/labels and on\n"
-                   "synthetic ones. Columns: median ms, median page faults, ratio to smalliso-labels at the\n"
+                   "relabel, removed voxels set to 0) and memcpy (of the map in its pixel type, and as uint32)\n"
+                   "on the label maps of DATA_DIR/labels, each in the pixel type its file stores, and on\n"
+                   "synthetic ones (uint16). Columns: median ms, median page faults, ratio to smalliso-labels at the\n"
                    "same thread count; the rows \"first\" time the first update of each, with its new buffers.\n"
                    "The rows \"memory\" give the growth of the peak resident size over a new filter's first\n"
                    "update (without the mask), less the output, in bytes per voxel (-1: not measurable here).\n"
@@ -527,7 +575,7 @@ main(int argc, char * argv[])
   if (small)
   {
     timing.WarmUpMs = 0;
-    return Measure("synthetic-40-noise", SyntheticLabels(40, 6, 0.02, 1), timing) &&
+    return Measure("synthetic-40-noise", SyntheticLabels(40, 6, 0.02, 1).GetPointer(), timing) &&
                MeasureSparseIds("cells-40-64-ids-2%", CellLabels(40, 64, 0.02, 1), timing)
              ? 0
              : 1;
@@ -540,10 +588,10 @@ main(int argc, char * argv[])
     if (fileName.find(".nii") != std::string::npos &&
         (fileName.find("_seg") != std::string::npos || fileName.find("atlas") != std::string::npos))
     {
-      agree = Measure(fileName.substr(0, fileName.find('.')), Read(file.path().string()), timing) && agree;
+      agree = MeasureFile(fileName.substr(0, fileName.find('.')), file.path().string(), timing) && agree;
     }
   }
-  agree = Measure("synthetic-256-6-labels-2%", SyntheticLabels(256, 6, 0.02, 1), timing) && agree;
+  agree = Measure("synthetic-256-6-labels-2%", SyntheticLabels(256, 6, 0.02, 1).GetPointer(), timing) && agree;
   // Connectomics-like ids: 2,523 cells (ratio to the same map with ids 1, 2, 3, ...).
   agree = MeasureSparseIds("cells-256-2523-ids-2%", CellLabels(256, 2523, 0.02, 1), timing) && agree;
   return agree ? 0 : 1;
