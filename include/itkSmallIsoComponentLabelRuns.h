@@ -24,7 +24,6 @@
 #include "itkSmallIsoComponentLineSlabs.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -133,12 +132,13 @@ public:
   void
   Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr);
 
-  /** Whether every sample Encode() read is a finite whole number, as a label map's must be: checked in a float map
-   * as each line is read, while it is in cache; always true in an integer map. */
+  /** Whether every sample Encode() read is a finite whole number, as a label map's must be. Each sample has its
+   * run's label byte for byte, or as a value (-0 and 0, the only values equal with other bytes), so the runs' labels
+   * are the ones to check. */
   bool
   HoldsWholeNumbersOnly() const
   {
-    return m_WholeNumbersOnly.load(std::memory_order_relaxed);
+    return AreWholeNumbers(m_Label.data(), m_Label.size());
   }
 
   /** The voxels of a line. */
@@ -199,21 +199,13 @@ public:
   }
 
 private:
-  /** Copies \a line of \a labels to \a copy, when there is one, and checks a float line for whole numbers. */
+  /** Copies \a line of \a labels to \a copy, when there is one. */
   void
-  ReadLine(const TLabel * labels, SizeValueType line, TLabel * copy)
+  CopyLine(const TLabel * labels, SizeValueType line, TLabel * copy) const
   {
-    const TLabel * const row = labels + line * m_Length;
-    if constexpr (std::is_floating_point<TLabel>::value)
-    {
-      if (!AreWholeNumbers(row, m_Length))
-      {
-        m_WholeNumbersOnly.store(false, std::memory_order_relaxed);
-      }
-    }
     if (copy != nullptr)
     {
-      std::copy_n(row, m_Length, copy + line * m_Length);
+      std::copy_n(labels + line * m_Length, m_Length, copy + line * m_Length);
     }
   }
 
@@ -278,7 +270,6 @@ private:
   std::vector<RunIndex>       m_LineBegin;
   std::vector<CoordinateType> m_Start;
   std::vector<TLabel>         m_Label;
-  std::atomic<bool>           m_WholeNumbersOnly{ true };
 };
 
 template <typename TLabel>
@@ -294,7 +285,6 @@ LabelRuns<TLabel>::Encode(const TLabel *                     labels,
                              << NumericTraits<CoordinateType>::max() << " voxels, not " << size[0]);
   }
   m_Length = size[0];
-  m_WholeNumbersOnly.store(true, std::memory_order_relaxed);
   SizeValueType lines = 1;
   for (std::size_t a = 1; a < size.size(); ++a)
   {
@@ -310,7 +300,7 @@ LabelRuns<TLabel>::Encode(const TLabel *                     labels,
   const auto forEachLine = [&team, lines](const auto & lineFunction) { ForEachLineInSlabs(team, lines, lineFunction); };
   forEachLine([this, labels, copy](SizeValueType line) {
     m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
-    this->ReadLine(labels, line, copy);
+    this->CopyLine(labels, line, copy);
   });
   for (SizeValueType line = 0; line < lines; ++line)
   {
@@ -348,7 +338,7 @@ LabelRuns<TLabel>::AppendRuns(const TLabel * labels, SizeValueType lines, TLabel
       m_Label.push_back(row[x]);
     });
     m_LineBegin[line + 1] = m_Start.size();
-    this->ReadLine(labels, line, copy);
+    this->CopyLine(labels, line, copy);
   }
 }
 

@@ -502,6 +502,41 @@ TEST(SmallIsoComponentLabelImageFilter, ChecksWholeNumbersAsTruncDoes)
   checkType(0.0, uint64_t{ 0 });
 }
 
+/** A run of equal samples that are not whole numbers is refused, at its first sample, wherever -0 and 0 lie before
+ * it (the check reads the runs' labels). */
+TEST(SmallIsoComponentLabelImageFilter, RefusesRunsOfSamplesThatAreNotWhole)
+{
+  using ImageType = Image<float, 2>;
+  for (const float bad : { 0.5f,
+                           -7.25f,
+                           std::numeric_limits<float>::infinity(),
+                           -std::numeric_limits<float>::infinity(),
+                           std::numeric_limits<float>::quiet_NaN() })
+  {
+    for (const unsigned int workUnits : { 1u, 2u })
+    {
+      std::vector<float> labels(40 * 6, 1.0f);
+      for (SizeValueType x = 0; x < 10; ++x)
+      {
+        labels[3 * 40 + x] = x % 2 == 0 ? -0.0f : 0.0f;
+      }
+      std::fill_n(labels.begin() + 3 * 40 + 10, 20, bad);
+      auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
+      filter->SetInput(SmallIsoComponentTest::MakeImage<float, 2>({ 40, 6 }, labels));
+      filter->SetNumberOfWorkUnits(workUnits);
+      try
+      {
+        filter->Update();
+        ADD_FAILURE() << "accepted a run of " << bad;
+      }
+      catch (const ExceptionObject & error)
+      {
+        EXPECT_NE(std::string(error.GetDescription()).find("[10, 3]"), std::string::npos) << error.GetDescription();
+      }
+    }
+  }
+}
+
 /** The first sample that is not a whole number is named, whatever the number of work units. */
 TEST(SmallIsoComponentLabelImageFilter, NamesTheFirstSampleThatIsNotWhole)
 {
