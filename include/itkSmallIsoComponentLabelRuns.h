@@ -20,7 +20,6 @@
 
 #include "itkMacro.h"
 #include "itkNumericTraits.h"
-#include "itkSmallIsoComponentBitCount.h"
 #include "itkSmallIsoComponentLineSlabs.h"
 #include "itkSmallIsoComponentTuning.h"
 #include <algorithm>
@@ -125,10 +124,10 @@ public:
   /** A place on a line: lines of up to 2^32 - 1 voxels, as the scalar filter's. */
   using CoordinateType = uint32_t;
 
-  /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest. One work unit
-   * appends them as it finds them, in one pass over the image; several count each line's runs
-   * in slabs of lines, then write them where the counts put them, with no copy of the runs.
-   * With \a copy, each line is also copied there, in the first pass, while it is in cache. */
+  /** Finds the runs of \a labels, an image of extent \a size with axis 0 fastest, in one pass
+   * over the image: each work unit appends the runs of its part of the lines as it finds them,
+   * and the parts are joined in order. With \a copy, each line is also copied there while it is
+   * in cache. */
   void
   Encode(const TLabel * labels, const std::vector<SizeValueType> & size, WorkTeam & team, TLabel * copy = nullptr);
 
@@ -209,16 +208,18 @@ private:
     }
   }
 
-  /** Appends the runs of the image's \a lines lines to the empty arrays, line after line, and
-   * copies each line to \a copy, when there is one. */
-  void
-  AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy);
+  /** The runs of a part of the lines, before they are appended to the others. */
+  struct PartRuns
+  {
+    std::vector<CoordinateType> Start;
+    std::vector<TLabel>         Label;
+  };
 
-  /** The runs of \a row. An integer label differs from the one before it exactly where one of
-   * its bytes does, so the differing voxels of each block are counted at once; a float label
-   * (-0 equals 0) is compared as a value. */
-  RunIndex
-  CountRuns(const TLabel * row) const;
+  /** Appends the runs of lines \a first to \a end of the image to the empty \a part, line after
+   * line, noting each line's end in m_LineBegin (counted from the part's first run), and copies
+   * each line to \a copy, when there is one. */
+  void
+  AppendRuns(const TLabel * labels, SizeValueType first, SizeValueType end, TLabel * copy, PartRuns & part);
 
   /** Calls function(x) for every voxel x > 0 of \a row whose label differs from the one before
    * it. */
@@ -270,6 +271,8 @@ private:
   std::vector<RunIndex>       m_LineBegin;
   std::vector<CoordinateType> m_Start;
   std::vector<TLabel>         m_Label;
+  /** The runs of the parts after the first, kept between updates for their memory. */
+  std::vector<PartRuns> m_Parts;
 };
 
 template <typename TLabel>
@@ -292,68 +295,61 @@ LabelRuns<TLabel>::Encode(const TLabel *                     labels,
   }
   m_LineBegin.resize(lines + 1);
   m_LineBegin[0] = 0;
-  if (team.GetNumberOfWorkUnits() == 1)
-  {
-    this->AppendRuns(labels, lines, copy);
-    return;
-  }
-  const auto forEachLine = [&team, lines](const auto & lineFunction) { ForEachLineInSlabs(team, lines, lineFunction); };
-  forEachLine([this, labels, copy](SizeValueType line) {
-    m_LineBegin[line + 1] = this->CountRuns(labels + line * m_Length);
-    this->CopyLine(labels, line, copy);
+  // Each work unit appends the runs of its part of the lines, in one pass over the image; the
+  // first part's go straight to the run arrays, the others' after them.
+  const SizeValueType parts = team.GetNumberOfParts(lines);
+  m_Parts.resize(parts - 1);
+  // Room for all the parts' runs, so that joining them does not move the first part's.
+  m_Start.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  m_Label.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  PartRuns whole{ std::move(m_Start), std::move(m_Label) };
+  team.ForEach(parts, [&](SizeValueType part) {
+    this->AppendRuns(labels,
+                     WorkTeam::PartBegin(lines, part, parts),
+                     WorkTeam::PartBegin(lines, part + 1, parts),
+                     copy,
+                     part == 0 ? whole : m_Parts[part - 1]);
   });
-  for (SizeValueType line = 0; line < lines; ++line)
+  m_Start = std::move(whole.Start);
+  m_Label = std::move(whole.Label);
+  for (SizeValueType part = 1; part < parts; ++part)
   {
-    m_LineBegin[line + 1] += m_LineBegin[line];
+    const RunIndex offset = m_Start.size();
+    for (SizeValueType line = WorkTeam::PartBegin(lines, part, parts);
+         line < WorkTeam::PartBegin(lines, part + 1, parts);
+         ++line)
+    {
+      m_LineBegin[line + 1] += offset;
+    }
+    m_Start.insert(m_Start.end(), m_Parts[part - 1].Start.begin(), m_Parts[part - 1].Start.end());
+    m_Label.insert(m_Label.end(), m_Parts[part - 1].Label.begin(), m_Parts[part - 1].Label.end());
   }
-  m_Start.resize(m_LineBegin[lines]);
-  m_Label.resize(m_LineBegin[lines]);
-  forEachLine([this, labels](SizeValueType line) {
-    const TLabel * const row = labels + line * m_Length;
-    RunIndex             run = m_LineBegin[line];
-    m_Start[run] = 0;
-    m_Label[run] = row[0];
-    this->ForEachRunStart(row, [this, row, &run](SizeValueType x) {
-      m_Start[++run] = static_cast<CoordinateType>(x);
-      m_Label[run] = row[x];
-    });
-  });
 }
 
 template <typename TLabel>
 inline void
-LabelRuns<TLabel>::AppendRuns(const TLabel * labels, SizeValueType lines, TLabel * copy)
+LabelRuns<TLabel>::AppendRuns(const TLabel * labels,
+                              SizeValueType  first,
+                              SizeValueType  end,
+                              TLabel *       copy,
+                              PartRuns &     part)
 {
-  m_Start.clear();
-  m_Label.clear();
-  m_Start.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
-  m_Label.reserve(lines * m_Length / Tuning::VoxelsPerReservedLabelRun);
-  for (SizeValueType line = 0; line < lines; ++line)
+  part.Start.clear();
+  part.Label.clear();
+  part.Start.reserve((end - first) * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  part.Label.reserve((end - first) * m_Length / Tuning::VoxelsPerReservedLabelRun);
+  for (SizeValueType line = first; line < end; ++line)
   {
     const TLabel * const row = labels + line * m_Length;
-    m_Start.push_back(0);
-    m_Label.push_back(row[0]);
-    this->ForEachRunStart(row, [this, row](SizeValueType x) {
-      m_Start.push_back(static_cast<CoordinateType>(x));
-      m_Label.push_back(row[x]);
+    part.Start.push_back(0);
+    part.Label.push_back(row[0]);
+    this->ForEachRunStart(row, [&part, row](SizeValueType x) {
+      part.Start.push_back(static_cast<CoordinateType>(x));
+      part.Label.push_back(row[x]);
     });
-    m_LineBegin[line + 1] = m_Start.size();
+    m_LineBegin[line + 1] = part.Start.size();
     this->CopyLine(labels, line, copy);
   }
-}
-
-template <typename TLabel>
-inline auto
-LabelRuns<TLabel>::CountRuns(const TLabel * row) const -> RunIndex
-{
-  RunIndex runs = 1;
-  if (std::is_floating_point<TLabel>::value)
-  {
-    this->ForEachRunStart(row, [&runs](SizeValueType) { ++runs; });
-    return runs;
-  }
-  this->ForEachBlock(row, [&runs](SizeValueType, uint64_t differ) { runs += CountBits(differ); });
-  return runs;
 }
 } // namespace SmallIsoComponentDetail
 } // end namespace itk

@@ -116,19 +116,37 @@ struct Coverage
   }
 };
 
-/** \a longLines: lines of 65 to 300 voxels, longer than the blocks the encoding compares at
- * once for every label type, across few lines. */
+/** The extents ExpectSameAsReference() draws: small ones; lines of 65 to 300 voxels, longer than
+ * the blocks the encoding compares at once for every label type, across few lines; or over 2,048
+ * lines, which the work units share in parts. */
+enum class Extents
+{
+  Small,
+  LongLines,
+  ManyLines
+};
+
 template <typename TLabel, unsigned int VDimension>
 void
-ExpectSameAsReference(uint32_t seed, Coverage & coverage, bool longLines = false)
+ExpectSameAsReference(uint32_t seed, Coverage & coverage, Extents extents = Extents::Small)
 {
   RandomSource                          random(seed);
   std::array<SizeValueType, VDimension> size;
   for (SizeValueType & extent : size)
   {
-    extent = longLines
-               ? static_cast<SizeValueType>(&extent == &size[0] ? random.Between(65, 300) : random.Between(1, 8))
-               : SmallIsoComponentTest::Detail::DrawExtent(random, VDimension);
+    const bool first = &extent == &size[0];
+    switch (extents)
+    {
+      case Extents::Small:
+        extent = SmallIsoComponentTest::Detail::DrawExtent(random, VDimension);
+        break;
+      case Extents::LongLines:
+        extent = static_cast<SizeValueType>(first ? random.Between(65, 300) : random.Between(1, 8));
+        break;
+      case Extents::ManyLines:
+        extent = static_cast<SizeValueType>(first ? random.Between(1, 40) : random.Between(46, 60));
+        break;
+    }
   }
   const std::vector<TLabel> ids = DrawIds<TLabel>(random);
   const std::vector<TLabel> labels = DrawLabels<TLabel, VDimension>(random, size, ids);
@@ -244,13 +262,25 @@ TEST(SmallIsoComponentLabelImageFilter, MatchesReferenceOnLongLines)
   Coverage coverage;
   for (uint32_t seed = 4001; seed <= 4060; ++seed)
   {
-    ExpectSameAsReference<uint8_t, 2>(seed, coverage, true);
-    ExpectSameAsReference<uint16_t, 3>(seed + 100, coverage, true);
-    ExpectSameAsReference<int64_t, 2>(seed + 200, coverage, true);
-    ExpectSameAsReference<float, 3>(seed + 300, coverage, true);
+    ExpectSameAsReference<uint8_t, 2>(seed, coverage, Extents::LongLines);
+    ExpectSameAsReference<uint16_t, 3>(seed + 100, coverage, Extents::LongLines);
+    ExpectSameAsReference<int64_t, 2>(seed + 200, coverage, Extents::LongLines);
+    ExpectSameAsReference<float, 3>(seed + 300, coverage, Extents::LongLines);
   }
   // Unrepairable voxels need a removed component whose every walk leaves the image, which
   // long lines rarely give; the other tests hold them to the reference.
+  coverage.ExpectEnough(false);
+}
+
+TEST(SmallIsoComponentLabelImageFilter, MatchesReferenceOnManyLines)
+{
+  Coverage coverage;
+  for (uint32_t seed = 5001; seed <= 5012; ++seed)
+  {
+    ExpectSameAsReference<uint8_t, 3>(seed, coverage, Extents::ManyLines);
+    ExpectSameAsReference<uint16_t, 3>(seed + 100, coverage, Extents::ManyLines);
+    ExpectSameAsReference<float, 3>(seed + 200, coverage, Extents::ManyLines);
+  }
   coverage.ExpectEnough(false);
 }
 
