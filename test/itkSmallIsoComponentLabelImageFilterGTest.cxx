@@ -460,6 +460,22 @@ TEST(SmallIsoComponentLabelImageFilter, InPlaceGivesTheSameResult)
   }
 }
 
+/** Expects the update of \a filter to be refused with a description that contains \a expected. */
+template <typename TFilter>
+void
+ExpectRefused(TFilter * filter, const std::string & expected)
+{
+  try
+  {
+    filter->Update();
+    ADD_FAILURE() << "accepted; expected a refusal naming " << expected;
+  }
+  catch (const ExceptionObject & error)
+  {
+    EXPECT_NE(std::string(error.GetDescription()).find(expected), std::string::npos) << error.GetDescription();
+  }
+}
+
 /** A floating-point label map with a fractional, infinite or NaN sample is refused. */
 TEST(SmallIsoComponentLabelImageFilter, RefusesSamplesThatAreNotWholeNumbers)
 {
@@ -470,15 +486,8 @@ TEST(SmallIsoComponentLabelImageFilter, RefusesSamplesThatAreNotWholeNumbers)
     labels[13] = bad;
     auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
     filter->SetInput(SmallIsoComponentTest::MakeImage<float, 2>({ 5, 4 }, labels));
-    try
-    {
-      filter->Update();
-      ADD_FAILURE() << "accepted a sample of " << bad;
-    }
-    catch (const ExceptionObject & error)
-    {
-      EXPECT_NE(std::string(error.GetDescription()).find("[3, 2]"), std::string::npos) << error.GetDescription();
-    }
+    SCOPED_TRACE(testing::Message() << "a sample of " << bad);
+    ExpectRefused(filter.GetPointer(), "[3, 2]");
   }
 }
 
@@ -554,15 +563,8 @@ TEST(SmallIsoComponentLabelImageFilter, RefusesRunsOfSamplesThatAreNotWhole)
       auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
       filter->SetInput(SmallIsoComponentTest::MakeImage<float, 2>({ 40, 6 }, labels));
       filter->SetNumberOfWorkUnits(workUnits);
-      try
-      {
-        filter->Update();
-        ADD_FAILURE() << "accepted a run of " << bad;
-      }
-      catch (const ExceptionObject & error)
-      {
-        EXPECT_NE(std::string(error.GetDescription()).find("[10, 3]"), std::string::npos) << error.GetDescription();
-      }
+      SCOPED_TRACE(testing::Message() << "a run of " << bad << " at " << workUnits << " work units");
+      ExpectRefused(filter.GetPointer(), "[10, 3]");
     }
   }
 }
@@ -580,16 +582,8 @@ TEST(SmallIsoComponentLabelImageFilter, NamesTheFirstSampleThatIsNotWhole)
     auto filter = SmallIsoComponentLabelImageFilter<ImageType>::New();
     filter->SetInput(SmallIsoComponentTest::MakeImage<float, 3>(size, labels));
     filter->SetNumberOfWorkUnits(workUnits);
-    try
-    {
-      filter->Update();
-      ADD_FAILURE() << "accepted a sample of 0.25 at " << workUnits << " work units";
-    }
-    catch (const ExceptionObject & error)
-    {
-      EXPECT_NE(std::string(error.GetDescription()).find("[9, 5, 12] is 0.25"), std::string::npos)
-        << error.GetDescription();
-    }
+    SCOPED_TRACE(testing::Message() << workUnits << " work units");
+    ExpectRefused(filter.GetPointer(), "[9, 5, 12] is 0.25");
   }
 }
 
